@@ -1,0 +1,66 @@
+// Google Benchmark micro-benchmarks of the kernels. Run: build/release/bench/micro_bench
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include <tripsitter/board/board.h>
+#include <tripsitter/device/controller.h>
+#include <tripsitter/device/sqrt_unit.h>
+#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/render/normal.h>
+#include <tripsitter/scene/builtin.h>
+
+namespace {
+
+using namespace tripsitter;
+
+void BM_SqrtUnit(benchmark::State& state) {
+  const device::SqrtUnit unit(static_cast<int>(state.range(0)));
+  std::mt19937_64 rng(1);
+  std::vector<core::UInt128> inputs(1024);
+  for (auto& v : inputs) v = rng() >> 2;
+  std::size_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(unit(inputs[i++ & 1023]));
+}
+BENCHMARK(BM_SqrtUnit)->Arg(8)->Arg(16)->Arg(24);
+
+// One device line (640 pixels) of a random world of N spheres.
+void BM_DeviceLine(benchmark::State& state) {
+  const device::DevicePreset preset = device::wide_preset();
+  device::Device dev(preset, link::WireVersion::kV2);
+  host::Host h(scene::random_spheres(static_cast<int>(state.range(0)), 1), board::formats_of(preset),
+               link::WireVersion::kV2);
+  dev.transfer(h.update().bytes);
+  dev.run_frame([](const device::VgaSample&) {});
+  const device::Controller controller(preset);
+  std::array<core::Rgb444, device::kLineWidth> line;
+  int row = 0;
+  for (auto _ : state) {
+    controller.render_line(row, dev.scene(), line);
+    row = (row + 1) % 480;
+  }
+  state.SetItemsProcessed(state.iterations() * device::kLineWidth);
+}
+BENCHMARK(BM_DeviceLine)->Arg(1)->Arg(16)->Arg(64);
+
+void BM_NormalReferenceFrame(benchmark::State& state) {
+  host::Host h(scene::random_spheres(static_cast<int>(state.range(0)), 1), board::formats_of(device::wide_preset()),
+               link::WireVersion::kV2);
+  const auto& world = h.update();
+  for (auto _ : state) benchmark::DoNotOptimize(render::render_normal(world.view_spheres, 640, 480));
+  state.SetItemsProcessed(state.iterations() * 640 * 480);
+}
+BENCHMARK(BM_NormalReferenceFrame)->Arg(1)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond);
+
+void BM_DecodeV2(benchmark::State& state) {
+  host::Host h(scene::random_spheres(static_cast<int>(state.range(0)), 1), board::formats_of(device::wide_preset()),
+               link::WireVersion::kV2);
+  const auto bytes = h.update().bytes;
+  for (auto _ : state) benchmark::DoNotOptimize(link::decode_v2_frame(bytes, 4096));
+  state.SetBytesProcessed(state.iterations() * static_cast<std::int64_t>(bytes.size()));
+}
+BENCHMARK(BM_DecodeV2)->Arg(64)->Arg(4096);
+
+}  // namespace
+
+BENCHMARK_MAIN();

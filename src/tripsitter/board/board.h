@@ -1,0 +1,58 @@
+// The whole board in one process: host -> SPI link -> device -> VGA signal -> monitor.
+// Every world the monitor shows has travelled as link bytes; nothing takes a shortcut around the wire.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include <tripsitter/core/image.h>
+#include <tripsitter/device/device.h>
+#include <tripsitter/device/preset.h>
+#include <tripsitter/display/monitor.h>
+#include <tripsitter/host/host.h>
+#include <tripsitter/link/spi.h>
+#include <tripsitter/link/wire.h>
+#include <tripsitter/scene/scene.h>
+
+namespace tripsitter::board {
+
+struct BoardConfig {
+  device::DevicePreset preset = device::wide_preset();
+  link::WireVersion wire = link::WireVersion::kV2;
+  link::SpiConfig spi;
+};
+
+// What one shown frame cost and reported.
+struct ShownFrame {
+  core::Image444 image;                 // as captured from the VGA signal
+  device::FrameStats device;            // late pixels and lines of the frame
+  host::Saturations saturations;        // of the world it shows
+  std::size_t link_bytes = 0;           // of that world
+  double link_seconds = 0;              // at the SPI clock
+  std::size_t spheres_dropped = 0;      // beyond scene memory, never sent
+};
+
+link::SceneFormats formats_of(const device::DevicePreset& preset);
+
+class Board {
+ public:
+  Board(scene::Scene scene, BoardConfig config);
+
+  host::Host& host() { return host_; }
+  device::Device& device() { return device_; }
+  const link::SpiLink& link() const { return link_; }
+
+  // The host rebuilds its world from the current camera and sends it when the device is ready; the device
+  // runs until a whole frame of that world has gone out on the VGA signal, which the monitor captures.
+  // `probe`, when given, sees every VGA sample (for VCD dumps).
+  ShownFrame show(const std::function<void(const device::VgaSample&)>& probe = {});
+
+ private:
+  BoardConfig config_;
+  host::Host host_;
+  link::SpiLink link_;
+  device::Device device_;
+  display::VgaMonitor monitor_;
+};
+
+}  // namespace tripsitter::board

@@ -1,0 +1,16 @@
+// The subcommands of tripsitter. Each adds itself to the app and, when chosen, sets `run`.
+#pragma once
+
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace tripsitter::cmd {
+
+using Action = std::function<int()>;
+
+void add_render_command(CLI::App& app, Action& run);
+void add_link_command(CLI::App& app, Action& run);
+void add_bench_command(CLI::App& app, Action& run);
+
+}  // namespace tripsitter::cmd

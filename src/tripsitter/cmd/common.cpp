@@ -1,0 +1,47 @@
+#include "common.h"
+
+#include <fstream>
+#include <iostream>
+#include <iterator>
+
+#include <tripsitter/scene/scene_json.h>
+
+namespace tripsitter::cmd {
+
+std::string join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const auto& item : items) out += (out.empty() ? "" : ", ") + item;
+  return out;
+}
+
+scene::Scene load_scene(const std::string& name_or_path) {
+  auto result = scene::resolve_scene(name_or_path);
+  if (!result) throw InputError(result.error().to_string());
+  return std::move(result).value();
+}
+
+device::DevicePreset load_preset(const std::string& name, int workers) {
+  auto preset = device::preset_by_name(name);
+  if (!preset) throw InputError("unknown preset '" + name + "' (known: " + join(device::preset_names()) + ")");
+  if (workers != 0) preset->workers = workers;
+  if (auto why = preset->validate()) throw InputError("preset " + name + ": " + *why);
+  return *preset;
+}
+
+link::WireVersion parse_wire(const std::string& name) {
+  auto wire = link::wire_by_name(name);
+  if (!wire) throw InputError("unknown wire '" + name + "' (known: v1, v2)");
+  return *wire;
+}
+
+std::vector<std::uint8_t> read_bytes(const std::string& path) {
+  if (path == "-") {
+    std::cin >> std::noskipws;
+    return {std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>()};
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open for reading");
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+}  // namespace tripsitter::cmd

@@ -1,0 +1,38 @@
+// Shared pieces of the tripsitter subcommands: exit codes, option checks, scene and preset lookup.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <tripsitter/device/preset.h>
+#include <tripsitter/link/wire.h>
+#include <tripsitter/scene/scene.h>
+
+namespace tripsitter::cmd {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitInternal = 1;
+inline constexpr int kExitBadInput = 2;
+
+// Bad input or usage: reported on stderr, exit code 2, no output written.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A built-in scene name or a scene file; throws InputError with file:line:column on failure.
+scene::Scene load_scene(const std::string& name_or_path);
+
+// The named preset with the overrides given on the command line (0 means not given).
+device::DevicePreset load_preset(const std::string& name, int workers);
+
+link::WireVersion parse_wire(const std::string& name);
+
+// All bytes of a file, or of standard input for "-"; throws InputError.
+std::vector<std::uint8_t> read_bytes(const std::string& path);
+
+// "a, b, c"
+std::string join(const std::vector<std::string>& items);
+
+}  // namespace tripsitter::cmd

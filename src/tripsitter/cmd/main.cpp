@@ -1,0 +1,41 @@
+// tripsitter: the command-line front end. Parses, picks a subcommand, maps errors to exit codes
+// (0 success, 2 bad input or usage, 1 internal failure).
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "common.h"
+
+int main(int argc, char** argv) {
+  using namespace tripsitter::cmd;
+  CLI::App app{"TripSitter: the ray-tracing board of the 2023 report, as software.\n"
+               "The host keeps a world of spheres and a camera, sends it over the SPI link to the device,\n"
+               "whose fixed-point workers fill line buffers that drive a 640x480 VGA signal in 12-bit colour.",
+               "tripsitter"};
+  app.require_subcommand(1);
+  Action run;
+  add_render_command(app, run);
+  add_link_command(app, run);
+  add_bench_command(app, run);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return kExitBadInput;
+  }
+  try {
+    return run();
+  } catch (const InputError& e) {
+    std::cerr << "tripsitter: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "tripsitter: internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+}

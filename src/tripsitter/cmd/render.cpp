@@ -1,0 +1,186 @@
+// tripsitter render: one frame as the monitor shows it.
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include <tripsitter/board/board.h>
+#include <tripsitter/display/png.h>
+#include <tripsitter/display/vcd.h>
+#include <tripsitter/render/normal.h>
+#include <tripsitter/scene/builtin.h>
+
+#include "commands.h"
+#include "common.h"
+
+namespace tripsitter::cmd {
+namespace {
+
+struct RenderOptions {
+  std::string scene = "demo";
+  std::string mode = "hw";
+  std::string preset = "wide";
+  int workers = 0;
+  std::string wire = "v2";
+  int width = 640;
+  int height = 480;
+  std::string out = "tripsitter.png";
+  std::string vcd;
+  int lines = 525;
+  std::string link_input;
+  std::size_t transfer_bytes = link::SpiConfig{}.max_transfer_bytes;
+  std::int64_t spi_hz = link::SpiConfig{}.clock_hz;
+};
+
+// Fails before any work is done when a file could not be written there.
+void check_output_path(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (!parent.empty() && !std::filesystem::is_directory(parent))
+    throw InputError(path + ": directory " + parent.string() + " does not exist");
+}
+
+void write_image(const std::string& path, const core::Image444& image) {
+  auto written = display::write_png(path, image);
+  if (!written) throw InputError(written.error().message);
+  std::cerr << "wrote " << path << " (" << image.width << "x" << image.height << ")\n";
+}
+
+// The VCD file is opened before rendering, so a bad path fails before any work; it is removed again if
+// the render fails.
+class VcdCapture {
+ public:
+  VcdCapture(const std::string& path, int lines) : path_(path), limit_(std::int64_t{lines} * 800) {
+    if (path.empty()) return;
+    file_.open(path, std::ios::binary | std::ios::trunc);
+    if (!file_) throw InputError(path + ": cannot open for writing");
+    writer_ = std::make_unique<display::VcdWriter>(file_);
+  }
+  ~VcdCapture() {
+    if (!path_.empty() && !kept_) {
+      file_.close();
+      std::remove(path_.c_str());
+    }
+  }
+  std::function<void(const device::VgaSample&)> probe() {
+    if (!writer_) return {};
+    return [this](const device::VgaSample& s) {
+      if (static_cast<std::int64_t>(writer_->samples()) < limit_) writer_->sample(s);
+    };
+  }
+  void keep() {
+    if (path_.empty()) return;
+    writer_->finish();
+    file_.close();
+    if (!file_) throw InputError(path_ + ": write failed");
+    kept_ = true;
+    std::cerr << "wrote " << path_ << " (" << writer_->samples() << " pixel clocks)\n";
+  }
+
+ private:
+  std::string path_;
+  std::int64_t limit_;
+  std::ofstream file_;
+  std::unique_ptr<display::VcdWriter> writer_;
+  bool kept_ = false;
+};
+
+void report(const board::ShownFrame& f) {
+  std::cerr << "device: " << f.device.late_pixels << " late pixels on " << f.device.late_lines << " lines\n"
+            << "link: " << f.link_bytes << " bytes, " << f.link_seconds * 1e3 << " ms at the SPI clock\n"
+            << "host: " << f.saturations.total() << " saturated values\n";
+  if (f.spheres_dropped > 0) std::cerr << "host: " << f.spheres_dropped << " spheres beyond scene memory were not sent\n";
+}
+
+int run_render(const RenderOptions& o) {
+  if (o.mode != "hw" && o.mode != "normal") throw InputError("--mode must be hw or normal, not '" + o.mode + "'");
+  const link::WireVersion wire = parse_wire(o.wire);
+  const device::DevicePreset preset = load_preset(o.preset, o.workers);
+  if (o.mode == "hw" && (o.width != 640 || o.height != 480))
+    throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal");
+  if (o.mode == "normal" && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float reference has no VGA signal)");
+  if (o.mode == "normal" && !o.link_input.empty()) throw InputError("--link-input needs --mode hw");
+  check_output_path(o.out);
+  if (!o.vcd.empty()) check_output_path(o.vcd);
+
+  if (!o.link_input.empty()) {
+    // The device alone, fed raw link bytes as a real host would send them.
+    const std::vector<std::uint8_t> bytes = read_bytes(o.link_input);
+    VcdCapture vcd(o.vcd, o.lines);
+    device::Device dev(preset, wire);
+    display::VgaMonitor monitor;
+    const std::span<const std::uint8_t> all(bytes);
+    for (std::size_t at = 0; at < all.size(); at += o.transfer_bytes)
+      dev.transfer(all.subspan(at, std::min(o.transfer_bytes, all.size() - at)));
+    dev.end_of_stream();
+    auto probe = vcd.probe();
+    const device::FrameStats stats = dev.run_frame([&](const device::VgaSample& s) {
+      monitor.sample(s);
+      if (probe) probe(s);
+    });
+    const auto& rx = dev.receiver_stats();
+    std::cerr << "device: " << rx.worlds_accepted << " worlds accepted, " << rx.frames_rejected
+              << " frames rejected, " << rx.garbage_runs << " runs of garbage (" << rx.bytes_dropped
+              << " bytes dropped)\n";
+    if (!stats.has_world)
+      throw InputError(o.link_input + ": no intact world in " + std::to_string(bytes.size()) + " bytes" +
+                       (rx.last_error.empty() ? "" : " (last error: " + rx.last_error + ")"));
+    auto frame = monitor.take_frame();
+    if (!frame) throw std::logic_error("monitor did not capture a frame");
+    std::cerr << "device: showing world " << stats.sequence << ", " << stats.late_pixels << " late pixels on "
+              << stats.late_lines << " lines\n";
+    write_image(o.out, *frame);
+    vcd.keep();
+    return kExitOk;
+  }
+
+  scene::Scene scene = load_scene(o.scene);
+  if (o.mode == "normal") {
+    host::Host host(scene, board::formats_of(preset), wire);
+    const auto& world = host.update();
+    write_image(o.out, render::render_normal(world.view_spheres, o.width, o.height));
+    return kExitOk;
+  }
+  VcdCapture vcd(o.vcd, o.lines);
+  board::Board b(std::move(scene), {preset, wire, {o.transfer_bytes, o.spi_hz}});
+  const board::ShownFrame shown = b.show(vcd.probe());
+  report(shown);
+  write_image(o.out, shown.image);
+  vcd.keep();
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app, Action& run) {
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand("render", "Render one frame as the board's monitor shows it, to a PNG file");
+  cmd->add_option("--scene", o->scene, "Built-in scene name (" + join(scene::builtin_names()) + ") or JSON scene file")
+      ->capture_default_str();
+  cmd->add_option("--mode", o->mode,
+                  "hw: host -> link -> device -> VGA capture, bit-exact fixed point (640x480 only);\n"
+                  "normal: the float reference of the same rays and shading (any --width/--height)")
+      ->capture_default_str();
+  cmd->add_option("--preset", o->preset, "Device preset (" + join(device::preset_names()) + ")")->capture_default_str();
+  cmd->add_option("--workers", o->workers, "Number of device workers, 1..640 (default: the preset's)")
+      ->check(CLI::Range(1, 640));
+  cmd->add_option("--wire", o->wire, "Link protocol: v1 (the board's sphere word; the device shows the last sphere) or v2")
+      ->capture_default_str();
+  cmd->add_option("--width", o->width, "Image width (--mode normal only; hw is 640)")->capture_default_str()->check(CLI::Range(1, scene::kMaxImageSide));
+  cmd->add_option("--height", o->height, "Image height (--mode normal only; hw is 480)")->capture_default_str()->check(CLI::Range(1, scene::kMaxImageSide));
+  cmd->add_option("--out", o->out, "Output PNG file")->capture_default_str();
+  cmd->add_option("--vcd", o->vcd, "Also dump the VGA signal (hsync, vsync, r, g, b) as a VCD file (hw only)");
+  cmd->add_option("--lines", o->lines, "Lines of signal in the VCD, counted from the device's reset at the start of "
+                                       "vertical blanking (line 480); 525 is one whole frame")
+      ->capture_default_str()->check(CLI::Range(1, 525 * 4));
+  cmd->add_option("--link-input", o->link_input,
+                  "Feed the device raw link bytes from this file ('-' for stdin) instead of a scene; with v1, each 8 "
+                  "bytes are one word, most significant byte first");
+  cmd->add_option("--transfer-bytes", o->transfer_bytes, "Largest SPI transfer in bytes")
+      ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
+  cmd->add_option("--spi-hz", o->spi_hz, "SPI clock in Hz, for the link time report")
+      ->capture_default_str()->check(CLI::Range(std::int64_t{1}, std::int64_t{1'000'000'000'000}));
+  cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
+}
+
+}  // namespace tripsitter::cmd

@@ -1,0 +1,53 @@
+// Images as the monitor shows them: 12-bit colour, row-major, top row first.
+#pragma once
+
+#include <cstddef>
+#include <algorithm>
+#include <cstdlib>
+#include <vector>
+
+#include <tripsitter/core/rgb444.h>
+
+namespace tripsitter::core {
+
+struct Image444 {
+  int width = 0;
+  int height = 0;
+  std::vector<Rgb444> pixels;  // width * height, row-major
+
+  Image444() = default;
+  Image444(int w, int h, Rgb444 fill = kBlack)
+      : width(w), height(h), pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), fill) {}
+  Rgb444& at(int x, int y) { return pixels[index(x, y)]; }
+  const Rgb444& at(int x, int y) const { return pixels[index(x, y)]; }
+  bool operator==(const Image444&) const = default;
+
+ private:
+  std::size_t index(int x, int y) const {
+    return static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+  }
+};
+
+// How two images of the same size differ, channel by channel, in 4-bit levels.
+struct ImageDiff {
+  std::size_t pixels = 0;             // pixels compared
+  std::size_t differing = 0;          // pixels with any channel different
+  std::size_t over_one_level = 0;     // pixels with some channel more than one level off
+  int max_level_difference = 0;       // largest channel difference, 0..15
+};
+
+// REQUIRES a and b of the same size.
+inline ImageDiff diff(const Image444& a, const Image444& b) {
+  ImageDiff d;
+  d.pixels = a.pixels.size();
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+    const Rgb444 p = a.pixels[i], q = b.pixels[i];
+    const int m = std::max({std::abs(p.r() - q.r()), std::abs(p.g() - q.g()), std::abs(p.b() - q.b())});
+    if (m > 0) ++d.differing;
+    if (m > 1) ++d.over_one_level;
+    d.max_level_difference = std::max(d.max_level_difference, m);
+  }
+  return d;
+}
+
+}  // namespace tripsitter::core

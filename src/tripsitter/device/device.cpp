@@ -1,0 +1,61 @@
+#include <tripsitter/device/device.h>
+
+#include <stdexcept>
+
+namespace tripsitter::device {
+namespace {
+
+DevicePreset checked(const DevicePreset& preset) {
+  if (auto why = preset.validate()) throw std::invalid_argument("device preset '" + preset.name + "': " + *why);
+  return preset;
+}
+
+}  // namespace
+
+Device::Device(const DevicePreset& preset, link::WireVersion wire)
+    : preset_(checked(preset)), receiver_(preset_, wire), controller_(preset_) {
+  // Out of reset at the start of vertical blanking.
+  while (vga_.line() != vga_.mode().v_visible) vga_.tick();
+}
+
+void Device::start_line(int line) {
+  const VgaMode& mode = vga_.mode();
+  if (line == mode.v_visible) {
+    // Vertical blanking: a waiting world becomes scene memory.
+    receiver_.swap_if_pending(scene_);
+    building_ = {scene_.sequence, scene_.valid, 0, 0};
+  }
+  const int next = (line + 1) % mode.v_total();
+  if (next < mode.v_visible) {
+    auto& back = line_buffers_[static_cast<std::size_t>(1 - front_)];
+    const LineResult r = controller_.render_line(next, scene_, back);
+    if (r.late_pixels > 0) {
+      building_.late_pixels += r.late_pixels;
+      ++building_.late_lines;
+      total_late_pixels_ += static_cast<std::uint64_t>(r.late_pixels);
+      ++total_late_lines_;
+    }
+  }
+}
+
+VgaSample Device::tick() {
+  const int col = vga_.column();
+  const int line = vga_.line();
+  if (col == 0) start_line(line);
+  const core::Rgb444 colour =
+      vga_.visible() ? line_buffers_[static_cast<std::size_t>(front_)][static_cast<std::size_t>(col)] : core::kBlack;
+  const VgaSample s = vga_.sample(colour);
+  if (col == vga_.mode().h_total() - 1) front_ = 1 - front_;  // end of line: the buffers swap
+  vga_.tick();
+  return s;
+}
+
+FrameStats Device::run_frame(const std::function<void(const VgaSample&)>& sink) {
+  if (vga_.line() != vga_.mode().v_visible || vga_.column() != 0)
+    throw std::logic_error("run_frame: the device is not at the start of vertical blanking");
+  const int clocks = vga_.mode().h_total() * vga_.mode().v_total();
+  for (int i = 0; i < clocks; ++i) sink(tick());
+  return building_;
+}
+
+}  // namespace tripsitter::device

@@ -1,0 +1,73 @@
+// The device (the report's FPGA): receiver, scene memory (two copies), controller with its workers,
+// two line buffers and the VGA block, advanced one pixel clock (four device cycles) at a time.
+//
+// Time: the device comes out of reset at the start of vertical blanking (line 480, column 0), so the first
+// full frame it sends is the first one after reset. At column 0 of line 480 a waiting world is swapped into
+// scene memory. At column 0 of every line the controller starts on the next visible line, which the
+// workers write into the back line buffer; at the end of each line the buffers swap.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <span>
+
+#include <tripsitter/core/rgb444.h>
+#include <tripsitter/device/controller.h>
+#include <tripsitter/device/preset.h>
+#include <tripsitter/device/receiver.h>
+#include <tripsitter/device/scene_memory.h>
+#include <tripsitter/device/vga.h>
+#include <tripsitter/link/spi.h>
+#include <tripsitter/link/wire.h>
+
+namespace tripsitter::device {
+
+struct FrameStats {
+  std::uint32_t sequence = 0;   // the world this frame shows
+  bool has_world = false;       // false before the first good world
+  int late_pixels = 0;
+  int late_lines = 0;
+};
+
+class Device : public link::Endpoint {
+ public:
+  // REQUIRES preset.validate() is empty.
+  Device(const DevicePreset& preset, link::WireVersion wire);
+
+  // link::Endpoint: the ready line and one SPI transfer.
+  bool ready() const override { return receiver_.ready(); }
+  void transfer(std::span<const std::uint8_t> bytes) override { receiver_.receive(bytes); }
+  void end_of_stream() { receiver_.end_of_stream(); }
+
+  // One pixel clock: what the VGA connector carries during it.
+  VgaSample tick();
+  // One whole frame of 800 x 525 pixel clocks, from the start of vertical blanking to the end of the last
+  // visible line; every sample goes to `sink`. Returns the statistics of the frame drawn.
+  // REQUIRES the device to be at the start of vertical blanking (as after reset or run_frame).
+  FrameStats run_frame(const std::function<void(const VgaSample&)>& sink);
+
+  // Statistics of the frame being drawn since the last vertical blanking.
+  const FrameStats& current_frame() const { return building_; }
+  std::uint64_t total_late_pixels() const { return total_late_pixels_; }
+  std::uint64_t total_late_lines() const { return total_late_lines_; }
+  const ReceiverStats& receiver_stats() const { return receiver_.stats(); }
+  const DevicePreset& preset() const { return preset_; }
+  const SceneMemory& scene() const { return scene_; }
+
+ private:
+  void start_line(int line);
+
+  DevicePreset preset_;
+  Receiver receiver_;
+  Controller controller_;
+  SceneMemory scene_;
+  VgaTimingGenerator vga_;
+  std::array<std::array<core::Rgb444, kLineWidth>, 2> line_buffers_{};
+  int front_ = 0;  // index of the line buffer the VGA block reads
+  FrameStats building_;
+  std::uint64_t total_late_pixels_ = 0;
+  std::uint64_t total_late_lines_ = 0;
+};
+
+}  // namespace tripsitter::device

@@ -1,0 +1,95 @@
+#include <tripsitter/device/device.h>
+
+#include <gtest/gtest.h>
+
+#include "test_util.h"
+
+namespace tripsitter::device {
+namespace {
+
+using testing::frame_of;
+using testing::visible_pixels;
+
+TEST(Device, BeforeAnyWorldTheScreenIsBackground) {
+  Device d(wide_preset(), link::WireVersion::kV2);
+  FrameStats stats;
+  const auto pixels = visible_pixels(d, &stats);
+  ASSERT_EQ(pixels.size(), 640u * 480u);
+  EXPECT_FALSE(stats.has_world);
+  for (const auto& p : pixels) ASSERT_EQ(p, core::kBackground);
+}
+
+TEST(Device, FrameFromTheSignalEqualsTheWorkersFunction) {
+  const DevicePreset p = wide_preset();
+  Device d(p, link::WireVersion::kV2);
+  d.transfer(frame_of(p, 3, {{0, 0, 400, 64}, {-150, 60, 350, 40}, {120, -80, 500, 100}}));
+  FrameStats stats;
+  const auto pixels = visible_pixels(d, &stats);
+  EXPECT_TRUE(stats.has_world);
+  EXPECT_EQ(stats.sequence, 3u);
+  EXPECT_EQ(stats.late_pixels, 0);
+  const Worker w(p.sqrt_iterations);
+  for (int row = 0; row < 480; ++row)
+    for (int col = 0; col < 640; ++col)
+      ASSERT_EQ(pixels[static_cast<std::size_t>(row * 640 + col)], w.shade(col, row, d.scene())) << col << "," << row;
+}
+
+TEST(Device, BoardPresetShowsTheBlackStripAndCountsIt) {
+  const DevicePreset p = board_2023_preset();
+  Device d(p, link::WireVersion::kV2);
+  d.transfer(frame_of(p, 1, {{0, 0, 400, 64}}));
+  FrameStats stats;
+  const auto pixels = visible_pixels(d, &stats);
+  EXPECT_EQ(stats.late_pixels, 60 * 480);
+  EXPECT_EQ(stats.late_lines, 480);
+  for (int row = 0; row < 480; row += 37)
+    for (int col = 580; col < 640; ++col) ASSERT_EQ(pixels[static_cast<std::size_t>(row * 640 + col)], core::kBlack);
+  EXPECT_EQ(pixels[240 * 640 + 320], core::Rgb444(0x770));
+  EXPECT_EQ(d.total_late_lines(), 480u);
+}
+
+TEST(Device, AWorldArrivingMidFrameWaitsForVerticalBlanking) {
+  const DevicePreset p = wide_preset();
+  Device d(p, link::WireVersion::kV2);
+  d.transfer(frame_of(p, 1, {{0, 0, 400, 64}}));
+  // Run into the next frame's drawing, then send another world half-way down the screen.
+  std::vector<core::Rgb444> pixels;
+  int clock = 0;
+  for (; clock < 420000; ++clock) {
+    const int line = (480 + clock / 800) % 525;
+    const int col = clock % 800;
+    if (line == 240 && col == 0) {
+      EXPECT_TRUE(d.ready());
+      d.transfer(frame_of(p, 2, {{200, 0, 400, 64}}));
+      EXPECT_FALSE(d.ready());
+    }
+    const VgaSample s = d.tick();
+    if (line < 480 && col < 640) pixels.push_back(s.colour);
+  }
+  // Every line of this frame shows world 1, the lines below 240 included.
+  const Worker w(p.sqrt_iterations);
+  SceneMemory world1;
+  world1.geometry.push_back({{0, 0, p.z.quantize(400).raw}, p.radius.quantize(64).raw});
+  for (int row = 0; row < 480; ++row)
+    for (int col = 0; col < 640; col += 7)
+      ASSERT_EQ(pixels[static_cast<std::size_t>(row * 640 + col)], w.shade(col, row, world1)) << col << "," << row;
+  FrameStats stats;
+  visible_pixels(d, &stats);
+  EXPECT_EQ(stats.sequence, 2u);
+  EXPECT_TRUE(d.ready());
+}
+
+TEST(Device, RunFrameRequiresTheStartOfBlanking) {
+  Device d(wide_preset(), link::WireVersion::kV2);
+  d.tick();
+  EXPECT_THROW(d.run_frame([](const VgaSample&) {}), std::logic_error);
+}
+
+TEST(Device, RejectsAnInvalidPreset) {
+  DevicePreset p = wide_preset();
+  p.workers = 0;
+  EXPECT_THROW(Device(p, link::WireVersion::kV2), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tripsitter::device

@@ -1,0 +1,78 @@
+#include <tripsitter/device/preset.h>
+
+#include <algorithm>
+
+#include <tripsitter/device/sqrt_unit.h>
+
+namespace tripsitter::device {
+
+std::int64_t DevicePreset::finish_cycle(std::int64_t k, std::int64_t spheres) const {
+  const std::int64_t per_sphere =
+      costs.sphere_test + std::int64_t{sqrt_iterations} * costs.sqrt_cycles_per_iteration + costs.closest_update;
+  if (costs.pipelined) {
+    const std::int64_t latency = costs.pixel_setup + per_sphere + costs.shade;
+    return (k + 1) * std::max<std::int64_t>(spheres, 1) * costs.issue_interval + latency;
+  }
+  return (k + 1) * (costs.pixel_setup + spheres * per_sphere + costs.shade);
+}
+
+std::optional<std::string> DevicePreset::validate() const {
+  const int f = x.frac_bits;
+  if (y.frac_bits != f || z.frac_bits != f || radius.frac_bits != f)
+    return "x, y, z and radius must have the same number of fractional bits";
+  if (f > 30) return "at most 30 fractional bits";
+  for (const auto* fmt : {&x, &y, &z, &radius})
+    if (fmt->total_bits < 2 || fmt->total_bits > 32) return "formats must be 2 to 32 bits wide (the v2 wire carries 32)";
+  if (!x.is_signed || !y.is_signed || !z.is_signed || radius.is_signed)
+    return "coordinates must be signed and the radius unsigned";
+  if (sqrt_iterations < 1 || sqrt_iterations > kMaxSqrtIterations) return "sqrt iterations must be 1 to 30";
+  if (workers < 1 || workers > kLineWidth) return "workers must be 1 to 640";
+  if (lead_cycles < 1 || lead_cycles > kLineCycles) return "lead cycles must be 1 to 3200";
+  if (max_spheres < 1 || max_spheres > 1'000'000) return "scene memory must hold 1 to 1000000 spheres";
+  return std::nullopt;
+}
+
+DevicePreset wide_preset() {
+  DevicePreset p;
+  p.name = "wide";
+  p.summary = "s24.4 coordinates, 16-step sqrt, 10 pipelined workers: every line on time with up to 49 spheres";
+  p.x = {24, 4, true};
+  p.y = {24, 4, true};
+  p.z = {24, 4, true};
+  p.radius = {24, 4, false};
+  p.sqrt_iterations = 16;
+  p.workers = 10;
+  p.lead_cycles = kLineCycles;  // the next line starts as soon as the current one is handed to the VGA block
+  p.costs = {.pipelined = true, .pixel_setup = 2, .sphere_test = 12, .sqrt_cycles_per_iteration = 1,
+             .closest_update = 1, .shade = 4, .issue_interval = 1};
+  p.max_spheres = 4096;
+  return p;
+}
+
+DevicePreset board_2023_preset() {
+  DevicePreset p;
+  p.name = "board-2023";
+  p.summary = "the original board: v1 formats, 10 workers, 51 cycles per pixel, 3000-cycle lead";
+  p.x = {16, 3, true};
+  p.y = {15, 3, true};
+  p.z = {15, 3, true};
+  p.radius = {16, 3, false};  // 2^r for r <= 12 (the board itself failed above r = 8)
+  p.sqrt_iterations = 16;
+  p.workers = 10;
+  p.lead_cycles = 3000;
+  // 2 + (12 + 16 * 2 + 1) + 4 = 51 cycles per pixel with one sphere, as measured on the board's design.
+  p.costs = {.pipelined = false, .pixel_setup = 2, .sphere_test = 12, .sqrt_cycles_per_iteration = 2,
+             .closest_update = 1, .shade = 4, .issue_interval = 1};
+  p.max_spheres = 64;
+  return p;
+}
+
+std::vector<std::string> preset_names() { return {"wide", "board-2023"}; }
+
+std::optional<DevicePreset> preset_by_name(std::string_view name) {
+  if (name == "wide") return wide_preset();
+  if (name == "board-2023") return board_2023_preset();
+  return std::nullopt;
+}
+
+}  // namespace tripsitter::device

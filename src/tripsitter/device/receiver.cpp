@@ -1,0 +1,111 @@
+#include <tripsitter/device/receiver.h>
+
+#include <string>
+#include <utility>
+
+namespace tripsitter::device {
+
+Receiver::Receiver(const DevicePreset& preset, link::WireVersion wire)
+    : preset_(preset),
+      wire_(wire),
+      v1_([this](const link::V1Sphere& word) { accept_v1(word); }),
+      v2_(preset.max_spheres,
+          {.on_frame = [this](link::World&& world) { accept_v2(std::move(world)); },
+           .on_error = [this](const link::V2Failure& failure, std::size_t bytes) {
+             if (failure.error == link::V2Error::kBadMagic) {
+               skip_garbage(bytes);
+             } else {
+               reject(std::string(link::to_string(failure.error)) + ": " + failure.detail, bytes);
+             }
+           }}) {}
+
+void Receiver::receive(std::span<const std::uint8_t> bytes) {
+  if (wire_ == link::WireVersion::kV1) {
+    v1_.push(bytes);
+  } else {
+    v2_.push(bytes);
+  }
+}
+
+void Receiver::end_of_stream() {
+  if (wire_ == link::WireVersion::kV1) {
+    if (v1_.pending_bytes() > 0) reject("truncated: the stream ended inside a v1 word", v1_.pending_bytes());
+    v1_.reset();
+  } else {
+    v2_.end_of_stream();
+  }
+}
+
+void Receiver::reject(const std::string& why, std::size_t bytes) {
+  ++stats_.frames_rejected;
+  stats_.bytes_dropped += bytes;
+  stats_.last_error = why;
+}
+
+void Receiver::skip_garbage(std::size_t bytes) {
+  ++stats_.garbage_runs;
+  stats_.bytes_dropped += bytes;
+}
+
+void Receiver::accept_v1(const link::V1Sphere& word) {
+  // A v1 word is in 3 fractional bits with a power-of-two radius; scene memory uses the preset's format.
+  const int f = preset_.frac_bits();
+  const std::int64_t x = core::rescale_raw(word.x_raw, 3, f);
+  const std::int64_t y = core::rescale_raw(word.y_raw, 3, f);
+  const std::int64_t z = core::rescale_raw(word.z_raw, 3, f);
+  const int radius_shift = word.radius_log2 + f;
+  if (radius_shift > 62 || !preset_.radius.contains(std::int64_t{1} << radius_shift) || !preset_.x.contains(x) ||
+      !preset_.y.contains(y) || !preset_.z.contains(z)) {
+    reject("v1 word out of the device's range (radius 2^" + std::to_string(word.radius_log2) + ")", link::kV1WordBytes);
+    return;
+  }
+  back_.geometry.assign(1, {{x, y, z}, std::int64_t{1} << radius_shift});
+  const std::uint8_t r = static_cast<std::uint8_t>(((word.colour >> 8) & 0xF) * 17);
+  const std::uint8_t g = static_cast<std::uint8_t>(((word.colour >> 4) & 0xF) * 17);
+  const std::uint8_t b = static_cast<std::uint8_t>((word.colour & 0xF) * 17);
+  back_.surfaces.assign(1, SurfaceWord{link::kMaterialLambertian, {r, g, b}, 0, 6144});
+  back_.sequence = ++v1_words_;
+  back_.valid = true;
+  if (pending_) ++stats_.worlds_replaced;
+  pending_ = true;
+  ++stats_.worlds_accepted;
+}
+
+void Receiver::accept_v2(link::World&& world) {
+  const std::size_t bytes = link::kV2HeaderBytes + world.spheres.size() * link::kV2SphereBytes + link::kV2TrailerBytes;
+  if (world.frac_bits != preset_.frac_bits()) {
+    reject("format mismatch: frame has " + std::to_string(world.frac_bits) + " fractional bits, the device " +
+               std::to_string(preset_.frac_bits()),
+           bytes);
+    return;
+  }
+  for (std::size_t i = 0; i < world.spheres.size(); ++i) {
+    const auto& s = world.spheres[i];
+    if (!preset_.x.contains(s.x) || !preset_.y.contains(s.y) || !preset_.z.contains(s.z) ||
+        !preset_.radius.contains(s.radius)) {
+      reject("sphere " + std::to_string(i) + " lies outside the device's number formats", bytes);
+      return;
+    }
+  }
+  back_.geometry.resize(world.spheres.size());
+  back_.surfaces.resize(world.spheres.size());
+  for (std::size_t i = 0; i < world.spheres.size(); ++i) {
+    const auto& s = world.spheres[i];
+    back_.geometry[i] = {{s.x, s.y, s.z}, s.radius};
+    back_.surfaces[i] = {s.material, s.albedo, s.fuzz, s.ior};
+  }
+  back_.sequence = world.sequence;
+  back_.valid = true;
+  if (pending_) ++stats_.worlds_replaced;
+  pending_ = true;
+  ++stats_.worlds_accepted;
+}
+
+bool Receiver::swap_if_pending(SceneMemory& front) {
+  if (!pending_) return false;
+  std::swap(front, back_);
+  pending_ = false;
+  return true;
+}
+
+}  // namespace tripsitter::device

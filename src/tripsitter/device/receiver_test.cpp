@@ -1,0 +1,116 @@
+#include <tripsitter/device/receiver.h>
+
+#include <gtest/gtest.h>
+
+#include "test_util.h"
+
+namespace tripsitter::device {
+namespace {
+
+using testing::frame_of;
+
+TEST(Receiver, AcceptsAWorldAndSwapsItOnlyWhenAsked) {
+  const DevicePreset p = wide_preset();
+  Receiver rx(p, link::WireVersion::kV2);
+  EXPECT_TRUE(rx.ready());
+  rx.receive(frame_of(p, 7, {{0, 0, 400, 64}, {10, 20, 300, 8}}));
+  EXPECT_FALSE(rx.ready());  // a world waits for vertical blanking
+  SceneMemory front;
+  EXPECT_TRUE(rx.swap_if_pending(front));
+  EXPECT_TRUE(rx.ready());
+  EXPECT_TRUE(front.valid);
+  EXPECT_EQ(front.sequence, 7u);
+  ASSERT_EQ(front.geometry.size(), 2u);
+  EXPECT_EQ(front.geometry[1].center.z, 300 * 16);
+  EXPECT_FALSE(rx.swap_if_pending(front));
+}
+
+TEST(Receiver, DamagedFrameIsCountedAndTheLastGoodWorldStays) {
+  const DevicePreset p = wide_preset();
+  Receiver rx(p, link::WireVersion::kV2);
+  SceneMemory front;
+  rx.receive(frame_of(p, 1, {{0, 0, 400, 64}}));
+  rx.swap_if_pending(front);
+  auto bad = frame_of(p, 2, {{50, 0, 400, 64}});
+  bad[30] ^= 0x10;  // a flipped bit in the payload
+  rx.receive(bad);
+  EXPECT_TRUE(rx.ready());
+  EXPECT_FALSE(rx.swap_if_pending(front));
+  EXPECT_EQ(front.sequence, 1u);
+  EXPECT_EQ(rx.stats().frames_rejected, 1u);
+  EXPECT_GT(rx.stats().bytes_dropped, 0u);
+  EXPECT_NE(rx.stats().last_error.find("CRC"), std::string::npos) << rx.stats().last_error;
+}
+
+TEST(Receiver, RejectsAFrameInAnotherFormat) {
+  const DevicePreset wide = wide_preset();
+  Receiver rx(board_2023_preset(), link::WireVersion::kV2);
+  rx.receive(frame_of(wide, 1, {{0, 0, 400, 64}}));  // 4 fractional bits; the board's memory has 3
+  EXPECT_TRUE(rx.ready());
+  EXPECT_EQ(rx.stats().frames_rejected, 1u);
+  EXPECT_NE(rx.stats().last_error.find("format"), std::string::npos);
+}
+
+TEST(Receiver, RejectsCoordinatesOutsideTheDevicesFormats) {
+  const DevicePreset board = board_2023_preset();
+  DevicePreset roomy = board;
+  roomy.z = {24, 3, true};
+  Receiver rx(board, link::WireVersion::kV2);
+  rx.receive(frame_of(roomy, 1, {{0, 0, 5000, 64}}));  // z = 5000 needs more than s15.3
+  EXPECT_EQ(rx.stats().frames_rejected, 1u);
+  EXPECT_TRUE(rx.ready());
+}
+
+TEST(Receiver, ANewerWorldReplacesOneWaitingForTheSwap) {
+  const DevicePreset p = wide_preset();
+  Receiver rx(p, link::WireVersion::kV2);
+  rx.receive(frame_of(p, 1, {{0, 0, 400, 64}}));
+  rx.receive(frame_of(p, 2, {{0, 0, 500, 64}}));
+  SceneMemory front;
+  rx.swap_if_pending(front);
+  EXPECT_EQ(front.sequence, 2u);
+  EXPECT_EQ(rx.stats().worlds_replaced, 1u);
+}
+
+TEST(Receiver, V1ShowsTheLatestWord) {
+  const DevicePreset p = board_2023_preset();
+  Receiver rx(p, link::WireVersion::kV1);
+  std::vector<std::uint8_t> bytes;
+  link::append_v1_bytes(0x0320032025804000u, bytes);  // (100, 50, 300), radius 16
+  link::append_v1_bytes(link::encode_v1_word({0, 0, 3200, 6, 0x770}), bytes);  // (0, 0, 400), radius 64
+  for (std::uint8_t b : bytes) rx.receive(std::span<const std::uint8_t>(&b, 1));
+  SceneMemory front;
+  ASSERT_TRUE(rx.swap_if_pending(front));
+  ASSERT_EQ(front.geometry.size(), 1u);
+  EXPECT_EQ(front.geometry[0].center.z, 3200);
+  EXPECT_EQ(front.geometry[0].radius, 64 * 8);
+  EXPECT_EQ(front.surfaces[0].albedo[0], 0x77);
+}
+
+TEST(Receiver, V1WordsAreRescaledToTheWidePreset) {
+  const DevicePreset p = wide_preset();
+  Receiver rx(p, link::WireVersion::kV1);
+  std::vector<std::uint8_t> bytes;
+  link::append_v1_bytes(0x0320032025804000u, bytes);
+  rx.receive(bytes);
+  SceneMemory front;
+  ASSERT_TRUE(rx.swap_if_pending(front));
+  EXPECT_EQ(front.geometry[0].center.x, 100 * 16);
+  EXPECT_EQ(front.geometry[0].center.y, 50 * 16);
+  EXPECT_EQ(front.geometry[0].radius, 16 * 16);
+}
+
+TEST(Receiver, HostGoingAwayMidFrameIsCounted) {
+  const DevicePreset p = wide_preset();
+  Receiver rx(p, link::WireVersion::kV2);
+  auto frame = frame_of(p, 1, {{0, 0, 400, 64}});
+  rx.receive(std::span<const std::uint8_t>(frame).first(frame.size() / 2));
+  rx.end_of_stream();
+  EXPECT_EQ(rx.stats().frames_rejected, 1u);
+  EXPECT_TRUE(rx.ready());
+  rx.receive(frame);  // the next host's world arrives intact
+  EXPECT_FALSE(rx.ready());
+}
+
+}  // namespace
+}  // namespace tripsitter::device

@@ -1,0 +1,63 @@
+#include <tripsitter/device/sqrt_unit.h>
+
+#include <bit>
+#include <stdexcept>
+
+namespace tripsitter::device {
+namespace {
+
+int bit_length(core::UInt128 v) {
+  const auto hi = static_cast<std::uint64_t>(v >> 64);
+  if (hi != 0) return 128 - std::countl_zero(hi);
+  return 64 - std::countl_zero(static_cast<std::uint64_t>(v));
+}
+
+}  // namespace
+
+SqrtUnit::SqrtUnit(int iterations) : iterations_(iterations) {
+  if (iterations < 1 || iterations > kMaxSqrtIterations) throw std::invalid_argument("sqrt iterations out of range");
+}
+
+core::Int128 SqrtUnit::operator()(core::UInt128 input) const {
+  if (input == 0) return 0;
+  const int n = iterations_;
+  const int frac = 2 * n;                   // fractional bits of m and c
+  const int e = (bit_length(input) + 1) / 2;  // m = input / 4^e lies in [1/4, 1)
+  // m as an integer with `frac` fractional bits: input * 2^(frac - 2e), truncated.
+  const int shift = frac - 2 * e;
+  const auto m = static_cast<std::uint64_t>(shift >= 0 ? input << shift : input >> (-shift));
+
+  // x has n fractional bits, c = x^2 has 2n.
+  std::uint64_t x = std::uint64_t{1} << (n - 1);        // 1/2
+  std::uint64_t c = std::uint64_t{1} << (2 * n - 2);    // 1/4
+  for (int k = 0; k < n; ++k) {
+    const std::uint64_t cross = x << (n - k);               // x * 2^-k in units of 2^-2n
+    const std::uint64_t step_sq = std::uint64_t{1} << (2 * n - 2 * k - 2);  // 2^-2(k+1)
+    const std::uint64_t step = std::uint64_t{1} << (n - k - 1);            // 2^-(k+1)
+    if (c < m) {
+      c = c + cross + step_sq;
+      x += step;
+    } else {
+      c = c + step_sq - cross;  // (x - d)^2 >= 0, so no wrap-around
+      x -= step;
+    }
+  }
+  // result = x * 2^(e - n), rounded to nearest.
+  const int out_shift = e - n;
+  if (out_shift >= 0) return static_cast<core::Int128>(x) << out_shift;
+  const int drop = -out_shift;
+  return static_cast<core::Int128>((x + (std::uint64_t{1} << (drop - 1))) >> drop);
+}
+
+std::uint64_t exact_isqrt(core::UInt128 v) {
+  if (v == 0) return 0;
+  // Newton's method from an over-estimate converges monotonically down to floor(sqrt(v)).
+  core::UInt128 x = core::UInt128{1} << ((bit_length(v) + 1) / 2);
+  while (true) {
+    const core::UInt128 y = (x + v / x) / 2;
+    if (y >= x) return static_cast<std::uint64_t>(x);
+    x = y;
+  }
+}
+
+}  // namespace tripsitter::device

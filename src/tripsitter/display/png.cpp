@@ -1,0 +1,128 @@
+// PNG through libpng's simplified API (png_image), which reports errors in the struct instead of longjmp.
+#include <png.h>
+#include <tripsitter/display/png.h>
+
+#include <cerrno>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <system_error>
+#include <vector>
+
+namespace tripsitter::display {
+namespace {
+
+// Largest image read_png accepts, in pixels (a guard against absurd headers, far above any frame we make).
+constexpr std::size_t kMaxReadPixels = std::size_t{1} << 28;
+
+IoError error(const std::string& what, const std::string& path, const std::string& reason) {
+  return IoError{what + " '" + path + "': " + reason};
+}
+
+std::string errno_message(int e) { return std::generic_category().message(e); }
+
+// Creates a new file "<path>.tmp-XXXXXXXX" that did not exist before ("x": exclusive). On failure returns
+// nullptr with the errno of the last attempt in `err`.
+std::FILE* create_temp_beside(const std::string& path, std::string& tmp_path, int& err) {
+  std::random_device rd;
+  std::mt19937 gen(rd());
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    char suffix[16];
+    std::snprintf(suffix, sizeof suffix, "%08x", static_cast<unsigned>(gen()));
+    tmp_path = path + ".tmp-" + suffix;
+    errno = 0;
+    if (std::FILE* f = std::fopen(tmp_path.c_str(), "wbx")) return f;
+    err = errno;
+    if (err != EEXIST) return nullptr;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+core::Result<bool, IoError> write_png(const std::string& path, const core::Image444& image) {
+  const char* kWhat = "cannot write PNG";
+  if (image.width <= 0 || image.height <= 0 ||
+      image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height)) {
+    return error(kWhat, path, "image is empty or its pixel count does not match its size");
+  }
+
+  std::vector<std::uint8_t> rgb(image.pixels.size() * 3);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    const core::Rgb444 c = image.pixels[i];
+    rgb[3 * i + 0] = core::Rgb444::expand(c.r());
+    rgb[3 * i + 1] = core::Rgb444::expand(c.g());
+    rgb[3 * i + 2] = core::Rgb444::expand(c.b());
+  }
+
+  std::string tmp_path;
+  int err = 0;
+  std::FILE* f = create_temp_beside(path, tmp_path, err);
+  if (f == nullptr) return error(kWhat, path, "cannot create temporary file '" + tmp_path + "': " + errno_message(err));
+
+  png_image png;
+  std::memset(&png, 0, sizeof png);
+  png.version = PNG_IMAGE_VERSION;
+  png.width = static_cast<png_uint_32>(image.width);
+  png.height = static_cast<png_uint_32>(image.height);
+  png.format = PNG_FORMAT_RGB;
+  const bool written = png_image_write_to_stdio(&png, f, 0, rgb.data(), 0, nullptr) != 0;
+  const std::string png_message = png.message;
+  png_image_free(&png);
+  const bool flushed = std::fflush(f) == 0 && std::ferror(f) == 0;
+  const int flush_errno = errno;
+  const bool closed = std::fclose(f) == 0;
+  const int close_errno = errno;
+
+  std::string reason;
+  if (!written) {
+    reason = "libpng: " + png_message;
+  } else if (!flushed) {
+    reason = errno_message(flush_errno);
+  } else if (!closed) {
+    reason = errno_message(close_errno);
+  } else {
+    std::error_code ec;
+    std::filesystem::rename(tmp_path, path, ec);
+    if (!ec) return true;
+    reason = "cannot rename '" + tmp_path + "': " + ec.message();
+  }
+  std::error_code ignored;
+  std::filesystem::remove(tmp_path, ignored);
+  return error(kWhat, path, reason);
+}
+
+core::Result<core::Image444, IoError> read_png(const std::string& path) {
+  const char* kWhat = "cannot read PNG";
+  png_image png;
+  std::memset(&png, 0, sizeof png);
+  png.version = PNG_IMAGE_VERSION;
+  if (png_image_begin_read_from_file(&png, path.c_str()) == 0) {
+    // On failure libpng has already released what it allocated.
+    return error(kWhat, path, std::string("libpng: ") + png.message);
+  }
+  const std::size_t pixels = static_cast<std::size_t>(png.width) * static_cast<std::size_t>(png.height);
+  if (pixels == 0 || pixels > kMaxReadPixels) {
+    png_image_free(&png);
+    return error(kWhat, path,
+                 "image size " + std::to_string(png.width) + "x" + std::to_string(png.height) + " is out of range");
+  }
+  // Alpha, if any, is composited onto the buffer's initial black; opaque pixels keep their exact values.
+  png.format = PNG_FORMAT_RGB;
+  std::vector<std::uint8_t> rgb(pixels * 3, 0);
+  if (png_image_finish_read(&png, nullptr, rgb.data(), 0, nullptr) == 0) {
+    return error(kWhat, path, std::string("libpng: ") + png.message);  // finish_read frees on failure too
+  }
+
+  core::Image444 image(static_cast<int>(png.width), static_cast<int>(png.height));
+  const auto to4 = [](std::uint8_t v) { return (v + 8) / 17; };  // nearest of 0, 17, ..., 255
+  for (std::size_t i = 0; i < pixels; ++i) {
+    image.pixels[i] = core::Rgb444::from_channels(to4(rgb[3 * i]), to4(rgb[3 * i + 1]), to4(rgb[3 * i + 2]));
+  }
+  return image;
+}
+
+}  // namespace tripsitter::display

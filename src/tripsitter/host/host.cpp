@@ -1,0 +1,110 @@
+#include <tripsitter/host/host.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace tripsitter::host {
+namespace {
+
+constexpr double kImagePlaneZ = 320.0;  // the device's image plane, in pixel units
+
+double derive_units_per_world(const scene::Scene& s) {
+  if (s.units_per_world > 0) return s.units_per_world;
+  return kImagePlaneZ / core::length(s.camera.lookat - s.camera.lookfrom);
+}
+
+std::uint8_t unit_to_byte(double v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); }
+
+std::uint16_t to_u16(double v, double scale) {
+  return static_cast<std::uint16_t>(std::lround(std::clamp(v * scale, 0.0, 65535.0)));
+}
+
+std::int32_t quantize(const core::FixedFormat& f, double v, std::uint64_t& saturations) {
+  const core::Quantized q = f.quantize(v);
+  if (q.saturated) ++saturations;
+  return static_cast<std::int32_t>(q.raw);
+}
+
+}  // namespace
+
+link::V1Sphere to_v1(const scene::Sphere& s, Saturations& sat) {
+  link::V1Sphere w;
+  w.x_raw = quantize(link::kV1X, s.center.x, sat.coordinates);
+  w.y_raw = quantize(link::kV1Y, s.center.y, sat.coordinates);
+  w.z_raw = quantize(link::kV1Z, s.center.z, sat.coordinates);
+  // The radius is a power of two: the nearest one in log scale.
+  const double log2r = std::round(std::log2(s.radius));
+  if (!(log2r >= 0.0 && log2r <= link::kV1RadiusLog2Max)) ++sat.radii;
+  w.radius_log2 = static_cast<std::uint8_t>(std::clamp(std::isnan(log2r) ? 0.0 : log2r, 0.0, double{link::kV1RadiusLog2Max}));
+  const auto channel = [](double v) { return static_cast<int>(std::lround(std::clamp(v, 0.0, 1.0) * 15.0)); };
+  w.colour = static_cast<std::uint16_t>((channel(s.material.albedo.x) << 8) | (channel(s.material.albedo.y) << 4) |
+                                        channel(s.material.albedo.z));
+  return w;
+}
+
+link::WireSphere to_wire(const scene::Sphere& s, const link::SceneFormats& formats, Saturations& sat) {
+  link::WireSphere w;
+  w.x = quantize(formats.x, s.center.x, sat.coordinates);
+  w.y = quantize(formats.y, s.center.y, sat.coordinates);
+  w.z = quantize(formats.z, s.center.z, sat.coordinates);
+  const core::Quantized r = formats.radius.quantize(s.radius);
+  // A radius that rounds to zero would be no sphere at all: the smallest step stands in for it.
+  w.radius = static_cast<std::uint32_t>(std::max<std::int64_t>(r.raw, 1));
+  if (r.saturated || r.raw < 1) ++sat.radii;
+  w.material = static_cast<std::uint8_t>(s.material.type);
+  w.albedo = {unit_to_byte(s.material.albedo.x), unit_to_byte(s.material.albedo.y), unit_to_byte(s.material.albedo.z)};
+  w.fuzz = to_u16(s.material.fuzz, link::kV2FuzzScale);
+  w.ior = std::max<std::uint16_t>(to_u16(s.material.ior, link::kV2IorScale), 1);
+  return w;
+}
+
+Host::Host(scene::Scene scene, link::SceneFormats formats, link::WireVersion wire)
+    : initial_(std::move(scene)),
+      world_(initial_.spheres),
+      camera_(initial_.camera.lookfrom, initial_.camera.lookat, initial_.camera.vup),
+      units_per_world_(derive_units_per_world(initial_)),
+      formats_(formats),
+      wire_(wire) {}
+
+void Host::reset() {
+  world_ = initial_.spheres;
+  camera_ = Camera(initial_.camera.lookfrom, initial_.camera.lookat, initial_.camera.vup);
+}
+
+core::Mat4 Host::view_from_world() const {
+  const double s = units_per_world_;
+  return core::Mat4::scale({s, s, s}) * camera_.camera_from_world();
+}
+
+const ReadyWorld& Host::update() {
+  ReadyWorld next;
+  next.sequence = ++sequence_;
+  const core::Mat4 m = view_from_world();
+  const std::size_t capacity = wire_ == link::WireVersion::kV1 ? world_.size() : formats_.max_spheres;
+  const std::size_t count = std::min(world_.size(), capacity);
+  next.spheres_dropped = world_.size() - count;
+  next.view_spheres.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    scene::Sphere v = world_[i];
+    v.center = m.apply_point(v.center);
+    v.radius *= units_per_world_;
+    next.view_spheres.push_back(v);
+  }
+  if (wire_ == link::WireVersion::kV1) {
+    // The board's stream: one word per sphere; the device keeps the latest.
+    for (const auto& v : next.view_spheres) link::append_v1_bytes(link::encode_v1_word(to_v1(v, next.saturations)), next.bytes);
+  } else {
+    link::World world;
+    world.sequence = next.sequence;
+    world.frac_bits = static_cast<std::uint8_t>(formats_.x.frac_bits);
+    world.spheres.reserve(count);
+    for (const auto& v : next.view_spheres) world.spheres.push_back(to_wire(v, formats_, next.saturations));
+    next.bytes = link::encode_v2_frame(world);
+  }
+  total_saturations_.coordinates += next.saturations.coordinates;
+  total_saturations_.radii += next.saturations.radii;
+  ready_ = std::move(next);
+  return ready_;
+}
+
+}  // namespace tripsitter::host

@@ -1,0 +1,74 @@
+// The host (the report's microcontroller): keeps the world and the camera in floating point, applies the
+// view transform, converts to the device's fixed point and encodes a world for the link.
+//
+// Two copies of the world: the edited one (scene spheres and camera, changed by the controls) and the
+// ready one (view space, fixed point, encoded), rebuilt by update() and complete whenever the link reads it.
+//
+// View space is the device's (SPEC.md section B): camera at the origin, x right, y down, z ahead, in
+// pixel units; view_from_world = scale(units_per_world) * camera_from_world, one matrix for all centres.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <tripsitter/core/mat4.h>
+#include <tripsitter/host/camera.h>
+#include <tripsitter/link/wire.h>
+#include <tripsitter/link/wire_v1.h>
+#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/scene/scene.h>
+
+namespace tripsitter::host {
+
+struct Saturations {
+  std::uint64_t coordinates = 0;  // centre coordinates clamped to the format's range
+  std::uint64_t radii = 0;        // radii clamped (or, on v1, outside 2^0..2^63)
+  std::uint64_t total() const { return coordinates + radii; }
+};
+
+// What one update produced.
+struct ReadyWorld {
+  std::uint32_t sequence = 0;
+  std::vector<std::uint8_t> bytes;            // the encoded world, ready for the link
+  std::vector<scene::Sphere> view_spheres;    // the same world in view space, floating point (for the float reference)
+  Saturations saturations;
+  std::size_t spheres_dropped = 0;            // beyond the device's scene memory (never sent)
+};
+
+class Host {
+ public:
+  // REQUIRES the scene's camera to be valid (see scene_json.h: lookfrom != lookat, vup not parallel).
+  Host(scene::Scene scene, link::SceneFormats formats, link::WireVersion wire);
+
+  Camera& camera() { return camera_; }
+  const Camera& camera() const { return camera_; }
+  // R: world and camera as loaded.
+  void reset();
+
+  // Pixel units per world unit in view space.
+  double units_per_world() const { return units_per_world_; }
+  core::Mat4 view_from_world() const;
+
+  // Rebuilds the ready copy from the edited world and camera.
+  const ReadyWorld& update();
+  const ReadyWorld& ready() const { return ready_; }
+  const Saturations& total_saturations() const { return total_saturations_; }
+
+ private:
+  scene::Scene initial_;
+  std::vector<scene::Sphere> world_;  // the edited copy
+  Camera camera_;
+  double units_per_world_;
+  link::SceneFormats formats_;
+  link::WireVersion wire_;
+  std::uint32_t sequence_ = 0;
+  ReadyWorld ready_;
+  Saturations total_saturations_;
+};
+
+// Rounding to the v1 word's fields; counts what saturated into `sat`.
+link::V1Sphere to_v1(const scene::Sphere& view_sphere, Saturations& sat);
+// Rounding to a v2 sphere record in `formats`; counts what saturated into `sat`.
+link::WireSphere to_wire(const scene::Sphere& view_sphere, const link::SceneFormats& formats, Saturations& sat);
+
+}  // namespace tripsitter::host

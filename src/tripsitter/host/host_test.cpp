@@ -1,0 +1,91 @@
+#include <tripsitter/host/host.h>
+
+#include <gtest/gtest.h>
+
+#include <tripsitter/scene/builtin.h>
+
+namespace tripsitter::host {
+namespace {
+
+const link::SceneFormats kWide{{24, 4, true}, {24, 4, true}, {24, 4, true}, {24, 4, false}, 4096};
+
+TEST(Host, DemoSceneIsTheBoardsSphereInViewSpace) {
+  Host h(*scene::builtin("demo"), kWide, link::WireVersion::kV2);
+  const ReadyWorld& w = h.update();
+  ASSERT_EQ(w.view_spheres.size(), 1u);
+  EXPECT_NEAR(w.view_spheres[0].center.x, 0, 1e-9);
+  EXPECT_NEAR(w.view_spheres[0].center.y, 0, 1e-9);
+  EXPECT_NEAR(w.view_spheres[0].center.z, 400, 1e-9);
+  EXPECT_NEAR(w.view_spheres[0].radius, 64, 1e-9);
+  EXPECT_EQ(w.saturations.total(), 0u);
+  const auto decoded = link::decode_v2_frame(w.bytes, 4096);
+  ASSERT_TRUE(decoded.ok());
+  EXPECT_EQ(decoded.value().spheres[0].z, 400 * 16);
+  EXPECT_EQ(decoded.value().spheres[0].radius, 64u * 16u);
+  EXPECT_EQ(decoded.value().sequence, w.sequence);
+}
+
+TEST(Host, WorldUpIsScreenUp) {
+  scene::Scene s = *scene::builtin("demo");
+  s.spheres[0].center = {0, 1, 0};  // above the look-at point
+  Host h(s, kWide, link::WireVersion::kV2);
+  EXPECT_LT(h.update().view_spheres[0].center.y, 0);  // view y grows downwards
+}
+
+TEST(Host, UnitsPerWorldAreDerivedFromTheLookAtDistance) {
+  scene::Scene s = *scene::builtin("demo");
+  s.units_per_world = 0;
+  s.camera.lookfrom = {0, 0, -5};
+  Host h(s, kWide, link::WireVersion::kV2);
+  EXPECT_DOUBLE_EQ(h.units_per_world(), 64.0);
+  EXPECT_NEAR(h.view_from_world().apply_point(s.camera.lookat).z, 320.0, 1e-9);
+}
+
+TEST(Host, SaturationsAreCountedNotHidden) {
+  scene::Scene s = *scene::builtin("demo");
+  s.spheres.push_back({{0, 0, 1e6}, 1.0, {}});  // far beyond s24.4 at 32 units per world unit
+  Host h(s, kWide, link::WireVersion::kV2);
+  const ReadyWorld& w = h.update();
+  EXPECT_EQ(w.saturations.coordinates, 1u);
+  EXPECT_EQ(h.total_saturations().coordinates, 1u);
+  h.update();
+  EXPECT_EQ(h.total_saturations().coordinates, 2u);
+}
+
+TEST(Host, V1SendsOneWordPerSphereWithPowerOfTwoRadii) {
+  scene::Scene s = *scene::builtin("demo");
+  s.spheres[0].radius = 2.2;  // 70.4 pixel units: nearest power of two in log scale is 64
+  Host h(s, kWide, link::WireVersion::kV1);
+  const ReadyWorld& w = h.update();
+  ASSERT_EQ(w.bytes.size(), 8u);
+  std::uint64_t word = 0;
+  for (auto b : w.bytes) word = word << 8 | b;
+  const link::V1Sphere v = link::decode_v1_word(word);
+  EXPECT_EQ(v.radius_log2, 6);
+  EXPECT_EQ(v.z_raw, 400 * 8);
+}
+
+TEST(Host, SpheresBeyondSceneMemoryAreDroppedAndCounted) {
+  link::SceneFormats small = kWide;
+  small.max_spheres = 3;
+  Host h(scene::random_spheres(10, 1), small, link::WireVersion::kV2);
+  const ReadyWorld& w = h.update();
+  EXPECT_EQ(w.spheres_dropped, 7u);
+  EXPECT_EQ(link::decode_v2_frame(w.bytes, 3).value().spheres.size(), 3u);
+}
+
+TEST(Host, ResetRestoresTheCamera) {
+  Host h(*scene::builtin("demo"), kWide, link::WireVersion::kV2);
+  const auto before = h.update().bytes;
+  h.camera().move(3);
+  h.camera().look(20, 10);
+  EXPECT_NE(h.update().bytes, before);
+  h.reset();
+  auto after = h.update().bytes;
+  // Same world; only the sequence number (bytes 8..11) and the CRC differ.
+  ASSERT_EQ(after.size(), before.size());
+  for (std::size_t i = 12; i + 4 < after.size(); ++i) EXPECT_EQ(after[i], before[i]) << i;
+}
+
+}  // namespace
+}  // namespace tripsitter::host

@@ -1,0 +1,26 @@
+// What host and device agree on besides the bytes: which wire, and the number formats of scene memory.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include <tripsitter/core/fixed.h>
+
+namespace tripsitter::link {
+
+enum class WireVersion { kV1, kV2 };
+
+inline std::optional<WireVersion> wire_by_name(std::string_view name) {
+  if (name == "v1") return WireVersion::kV1;
+  if (name == "v2") return WireVersion::kV2;
+  return std::nullopt;
+}
+
+// The formats the device's scene memory holds; the host rounds and saturates to them before encoding.
+struct SceneFormats {
+  core::FixedFormat x, y, z, radius;
+  std::uint32_t max_spheres = 1;
+};
+
+}  // namespace tripsitter::link
