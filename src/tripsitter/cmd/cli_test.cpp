@@ -75,6 +75,19 @@ TEST_F(Cli, RenderWritesTheDemoFrame) {
   EXPECT_EQ(img.value().at(320, 240), tripsitter::core::Rgb444(0x770));
 }
 
+TEST_F(Cli, NormalModeRendersOtherSizesAndComparesWithHw) {
+  Result r = run("render --mode normal --width 320 --height 200 --out " + path("small.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto img = tripsitter::display::read_png(path("small.png"));
+  ASSERT_TRUE(img.ok());
+  EXPECT_EQ(img.value().width, 320);
+  EXPECT_EQ(img.value().height, 200);
+  EXPECT_EQ(img.value().at(160, 100), tripsitter::core::Rgb444(0x770));
+  r = run("render --compare --out " + path("hw.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("vs float reference: 0 of 307200 pixels differ"), std::string::npos) << r.out;
+}
+
 TEST_F(Cli, BadInputExitsTwoWithAMessageAndWritesNothing) {
   struct Case {
     std::string args, message;

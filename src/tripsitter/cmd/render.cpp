@@ -1,4 +1,5 @@
 // tripsitter render: one frame as the monitor shows it.
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -23,14 +24,15 @@ struct RenderOptions {
   std::string preset = "wide";
   int workers = 0;
   std::string wire = "v2";
-  int width = 640;
-  int height = 480;
+  int width = 0;   // 0: 640 in hw mode, the scene's render.width in normal mode
+  int height = 0;
   std::string out = "tripsitter.png";
   std::string vcd;
   int lines = 525;
   std::string link_input;
   std::size_t transfer_bytes = link::SpiConfig{}.max_transfer_bytes;
   std::int64_t spi_hz = link::SpiConfig{}.clock_hz;
+  bool compare = false;
 };
 
 // Fails before any work is done when a file could not be written there.
@@ -96,10 +98,12 @@ int run_render(const RenderOptions& o) {
   if (o.mode != "hw" && o.mode != "normal") throw InputError("--mode must be hw or normal, not '" + o.mode + "'");
   const link::WireVersion wire = parse_wire(o.wire);
   const device::DevicePreset preset = load_preset(o.preset, o.workers);
-  if (o.mode == "hw" && (o.width != 640 || o.height != 480))
+  if (o.mode == "hw" && ((o.width != 0 && o.width != 640) || (o.height != 0 && o.height != 480)))
     throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal");
   if (o.mode == "normal" && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float reference has no VGA signal)");
   if (o.mode == "normal" && !o.link_input.empty()) throw InputError("--link-input needs --mode hw");
+  if (o.compare && (o.mode != "hw" || !o.link_input.empty()))
+    throw InputError("--compare needs --mode hw with a scene (it renders the same world in float)");
   check_output_path(o.out);
   if (!o.vcd.empty()) check_output_path(o.vcd);
 
@@ -138,13 +142,21 @@ int run_render(const RenderOptions& o) {
   if (o.mode == "normal") {
     host::Host host(scene, board::formats_of(preset), wire);
     const auto& world = host.update();
-    write_image(o.out, render::render_normal(world.view_spheres, o.width, o.height));
+    const int width = o.width != 0 ? o.width : scene.render.width;
+    const int height = o.height != 0 ? o.height : scene.render.height;
+    write_image(o.out, render::render_normal(world.view_spheres, width, height));
     return kExitOk;
   }
   VcdCapture vcd(o.vcd, o.lines);
   board::Board b(std::move(scene), {preset, wire, {o.transfer_bytes, o.spi_hz}});
   const board::ShownFrame shown = b.show(vcd.probe());
   report(shown);
+  if (o.compare) {
+    const core::ImageDiff d = core::diff(shown.image, render::render_normal(b.host().ready().view_spheres, 640, 480));
+    std::printf("vs float reference: %zu of %zu pixels differ (%.3f%%), %zu by more than one level, at most %d levels\n",
+                d.differing, d.pixels, 100.0 * static_cast<double>(d.differing) / static_cast<double>(d.pixels),
+                d.over_one_level, d.max_level_difference);
+  }
   write_image(o.out, shown.image);
   vcd.keep();
   return kExitOk;
@@ -166,8 +178,10 @@ void add_render_command(CLI::App& app, Action& run) {
       ->check(CLI::Range(1, 640));
   cmd->add_option("--wire", o->wire, "Link protocol: v1 (the board's sphere word; the device shows the last sphere) or v2")
       ->capture_default_str();
-  cmd->add_option("--width", o->width, "Image width (--mode normal only; hw is 640)")->capture_default_str()->check(CLI::Range(1, scene::kMaxImageSide));
-  cmd->add_option("--height", o->height, "Image height (--mode normal only; hw is 480)")->capture_default_str()->check(CLI::Range(1, scene::kMaxImageSide));
+  cmd->add_option("--width", o->width, "Image width, --mode normal only (default: the scene's render.width; hw is 640)")
+      ->check(CLI::Range(1, scene::kMaxImageSide));
+  cmd->add_option("--height", o->height, "Image height, --mode normal only (default: the scene's render.height; hw is 480)")
+      ->check(CLI::Range(1, scene::kMaxImageSide));
   cmd->add_option("--out", o->out, "Output PNG file")->capture_default_str();
   cmd->add_option("--vcd", o->vcd, "Also dump the VGA signal (hsync, vsync, r, g, b) as a VCD file (hw only)");
   cmd->add_option("--lines", o->lines, "Lines of signal in the VCD, counted from the device's reset at the start of "
@@ -180,6 +194,8 @@ void add_render_command(CLI::App& app, Action& run) {
       ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
   cmd->add_option("--spi-hz", o->spi_hz, "SPI clock in Hz, for the link time report")
       ->capture_default_str()->check(CLI::Range(std::int64_t{1}, std::int64_t{1'000'000'000'000}));
+  cmd->add_flag("--compare", o->compare,
+               "hw only: also render the same view-space world with the float reference and print how the two differ");
   cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
 }
 
