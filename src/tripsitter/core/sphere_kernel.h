@@ -1,23 +1,39 @@
-// The per-pixel function of the board, written once for every arithmetic (SPEC.md section B, report table 1).
+// The per-pixel function of the board, written once for every arithmetic (SPEC.md section B, report
+// table 1 and section 7.1.3): rays against spheres, normal-map shading, and mirror reflection off metals.
 //
-// A ray leaves the origin along d; for each sphere (centre c, radius r):
-//   a = d.d,  b = 2 d.c,  c' = c.c - r^2,  D = b^2 - 4 a c'
+// A ray leaves o along d; for each sphere (centre c, radius r), with oc = c - o:
+//   a = d.d,  b = 2 d.oc,  c' = oc.oc - r^2,  D = b^2 - 4 a c'
 // no hit when D < 0, else the near distance is t = (b - sqrt(D)) / (2a). The closest t > 0 wins.
-// The unit normal at the hit, n = (t d - c) / r, is the colour: channel_k = floor(7 n_k + 7), clamped to 0..14.
+// The unit normal at the hit, n = (t d - oc) / r, is the colour: channel_k = floor(7 n_k + 7), clamped to 0..14.
+// A primary ray has o = 0, and then these are exactly the board's formulas.
 //
 // Everything is kept as ratios so that no division happens before the colour: with num = b - sqrt(D),
-// t = num / (2a) and n_k = (num d_k - 2a c_k) / (2a r). Because a is the same for every sphere of a
-// pixel, comparing num compares t. In fixed point, positions carry 2^-F and the formula is homogeneous
-// in that scale, so the kernel never needs to know F: only the host's rounding does.
+// t = num / (2a) and n_k = (num d_k - 2a oc_k) / (2a r). Because a is the same for every sphere of a
+// ray, comparing num compares t. In fixed point, positions carry 2^-F and the formulas are homogeneous in
+// that scale, so the kernel never needs to know F: only the host's rounding does.
 //
-// The Arith policy supplies the number types and the two non-ring operations:
+// The mirror model (docs/device.md): a ray that hits a metal, while fewer than max_bounces reflections
+// have been traced, reflects and the pixel takes the colour of the reflected ray times the metal's albedo;
+// a metal hit at the cut-off is shaded with its normal-map colour. Channel = floor(base * prod(albedo_i) /
+// 255^k) over the k metals reflected off, exact in integers. The reflection, at the hit point
+// p = o + num d / (2a) (rounded to the position grid in fixed point) with m = p - c:
+//   r = d (m.m) - 2 (d.m) m           (the mirror image of d, scaled by m.m: no square root, no division)
+// then scaled by a power of two so that its largest component is at most 2^kDirectionBits. The reflected
+// ray excludes the sphere it leaves: a ray reflected off the outside of a convex sphere never meets it
+// again, so no epsilon is needed against self-intersection.
+//
+// The Arith policy supplies the number types and the non-ring operations:
 //   typename Arith::Coord        sphere coordinates and radius (raw fixed point, or double)
 //   typename Arith::Wide         products and sums of products (128-bit integer, or double)
 //   Wide arith.sqrt(Wide D)      D >= 0
-//   int  Arith::floor_div(Wide n, Wide d)   d > 0; floor(n / d), saturated to the int range
+//   int  Arith::floor_div(Wide n, Wide d)      d > 0; floor(n / d), saturated to the int range
+//   Wide Arith::round_div(Wide n, Wide d)      d > 0; n / d on the position grid: to nearest, or exact
+//   Vec3<Wide> Arith::scale_direction(Vec3<Wide> r)   r times 2^-s, s >= 0 the least making max |r_k| <= 2^20
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <span>
 
 #include <tripsitter/core/rgb444.h>
@@ -25,55 +41,153 @@
 
 namespace tripsitter::core {
 
+// Reflected directions are scaled down to at most this many bits per component (only the direction matters).
+inline constexpr int kDirectionBits = 20;
+// The bounce cut-off's upper limit: the colour mix base * prod(albedo) stays below 14 * 255^6 < 2^53, so the
+// double instantiation computes it as exactly as the integer one.
+inline constexpr int kMaxBounces = 6;
+
 template <class Coord>
 struct KernelSphere {
   Vec3<Coord> center;
   Coord radius{};
 };
 
+// What the kernel needs of a sphere's surface.
+struct KernelSurface {
+  bool metal = false;                      // a mirror; every other material is normal-map shaded
+  std::array<std::uint8_t, 3> albedo{};    // 0..255 stands for 0..1 (the v2 wire's bytes)
+};
+
+template <class Wide>
+struct KernelRay {
+  Vec3<Wide> origin;     // raw position (0 for the camera's rays)
+  Vec3<Wide> direction;  // any length; integer pixel coordinates for the camera's rays
+};
+
 template <class Wide>
 struct KernelHit {
-  int index = -1;  // closest sphere, -1 when nothing is hit in front of the camera
+  int index = -1;  // closest sphere, -1 when nothing is hit in front of the ray's origin
   Wide num{};      // b - sqrt(D) of that sphere: t * 2a
 };
 
-// Closest hit along direction d (integer pixel coordinates) over all spheres.
+// What a pixel came to: its colour and how many reflections were traced for it (the passes over the
+// spheres are bounces + 1; the device's schedule depends on it).
+struct PixelTrace {
+  Rgb444 colour;
+  int bounces = 0;
+};
+
+// Closest hit along the ray over all spheres but `excluded` (-1: none). Ties go to the lower index.
 template <class Arith>
-KernelHit<typename Arith::Wide> closest_hit(const Arith& arith, const Vec3<typename Arith::Wide>& d,
-                                            std::span<const KernelSphere<typename Arith::Coord>> spheres) {
+KernelHit<typename Arith::Wide> closest_hit(const Arith& arith, const KernelRay<typename Arith::Wide>& ray,
+                                            std::span<const KernelSphere<typename Arith::Coord>> spheres,
+                                            int excluded = -1) {
   using Wide = typename Arith::Wide;
+  const Vec3<Wide>& d = ray.direction;
+  const Vec3<Wide>& o = ray.origin;
   const Wide a = dot(d, d);
   KernelHit<Wide> best;
   for (int i = 0; i < static_cast<int>(spheres.size()); ++i) {
+    if (i == excluded) continue;
     const auto& s = spheres[static_cast<std::size_t>(i)];
-    const Vec3<Wide> c{Wide(s.center.x), Wide(s.center.y), Wide(s.center.z)};
+    const Vec3<Wide> oc{Wide(s.center.x) - o.x, Wide(s.center.y) - o.y, Wide(s.center.z) - o.z};
     const Wide r = Wide(s.radius);
-    const Wide b = Wide(2) * dot(d, c);
-    const Wide c_prime = dot(c, c) - r * r;
+    const Wide b = Wide(2) * dot(d, oc);
+    const Wide c_prime = dot(oc, oc) - r * r;
     const Wide disc = b * b - Wide(4) * a * c_prime;
     if (disc < Wide(0)) continue;
     const Wide num = b - arith.sqrt(disc);
-    if (!(num > Wide(0))) continue;  // the near intersection is behind the camera (or the camera is inside)
+    if (!(num > Wide(0))) continue;  // the near intersection is behind the origin (or the origin is inside)
     if (best.index < 0 || num < best.num) best = {i, num};
   }
   return best;
 }
 
+// The camera's ray along d from the origin.
+template <class Arith>
+KernelHit<typename Arith::Wide> closest_hit(const Arith& arith, const Vec3<typename Arith::Wide>& d,
+                                            std::span<const KernelSphere<typename Arith::Coord>> spheres) {
+  return closest_hit(arith, KernelRay<typename Arith::Wide>{{}, d}, spheres);
+}
+
 // Normal-map colour of a hit (SPEC.md section B).
 template <class Arith>
-Rgb444 normal_colour(const Vec3<typename Arith::Wide>& d, const KernelSphere<typename Arith::Coord>& s,
+Rgb444 normal_colour(const KernelRay<typename Arith::Wide>& ray, const KernelSphere<typename Arith::Coord>& s,
                      typename Arith::Wide num) {
   using Wide = typename Arith::Wide;
+  const Vec3<Wide>& d = ray.direction;
   const Wide two_a = Wide(2) * dot(d, d);
   const Wide den = two_a * Wide(s.radius);
   int ch[3];
   for (int k = 0; k < 3; ++k) {
-    const Wide n_num = num * d[k] - two_a * Wide(s.center[k]);  // n_k = n_num / den
+    const Wide n_num = num * d[k] - two_a * (Wide(s.center[k]) - ray.origin[k]);  // n_k = n_num / den
     ch[k] = std::clamp(Arith::floor_div(Wide(7) * n_num + Wide(7) * den, den), 0, 14);
   }
   return Rgb444::from_channels(ch[0], ch[1], ch[2]);
 }
 
+template <class Arith>
+Rgb444 normal_colour(const Vec3<typename Arith::Wide>& d, const KernelSphere<typename Arith::Coord>& s,
+                     typename Arith::Wide num) {
+  return normal_colour<Arith>(KernelRay<typename Arith::Wide>{{}, d}, s, num);
+}
+
+// The ray reflected off sphere s, which `ray` hits with `num` (from closest_hit).
+template <class Arith>
+KernelRay<typename Arith::Wide> reflect(const KernelRay<typename Arith::Wide>& ray,
+                                        const KernelSphere<typename Arith::Coord>& s, typename Arith::Wide num) {
+  using Wide = typename Arith::Wide;
+  const Vec3<Wide>& d = ray.direction;
+  const Wide two_a = Wide(2) * dot(d, d);
+  Vec3<Wide> p, m;
+  for (int k = 0; k < 3; ++k) {
+    p[k] = ray.origin[k] + Arith::round_div(num * d[k], two_a);  // the hit point o + t d
+    m[k] = p[k] - Wide(s.center[k]);                             // the outward normal, length about r
+  }
+  const Wide mm = dot(m, m);
+  const Wide dm = dot(d, m);
+  Vec3<Wide> r;
+  for (int k = 0; k < 3; ++k) r[k] = d[k] * mm - Wide(2) * dm * m[k];
+  return {p, Arith::scale_direction(r)};
+}
+
+// The colour of the camera's ray along d in the mirror model. surface_of(i) gives sphere i's KernelSurface.
+// REQUIRES 0 <= max_bounces <= kMaxBounces.
+template <class Arith, class SurfaceOf>
+PixelTrace trace_pixel(const Arith& arith, const Vec3<typename Arith::Wide>& d,
+                       std::span<const KernelSphere<typename Arith::Coord>> spheres, const SurfaceOf& surface_of,
+                       Rgb444 background, int max_bounces) {
+  using Wide = typename Arith::Wide;
+  KernelRay<Wide> ray{{}, d};
+  int excluded = -1;
+  int bounces = 0;
+  std::array<Wide, 3> tint{Wide(1), Wide(1), Wide(1)};  // product of the albedos reflected off
+  Wide tint_scale(1);                                  // 255^bounces
+  Rgb444 base = background;
+  while (true) {
+    const auto hit = closest_hit(arith, ray, spheres, excluded);
+    if (hit.index < 0) break;
+    const auto& s = spheres[static_cast<std::size_t>(hit.index)];
+    const KernelSurface surface = surface_of(hit.index);
+    if (!surface.metal || bounces >= max_bounces) {
+      base = normal_colour<Arith>(ray, s, hit.num);
+      break;
+    }
+    ray = reflect<Arith>(ray, s, hit.num);
+    excluded = hit.index;
+    ++bounces;
+    for (std::size_t k = 0; k < 3; ++k) tint[k] = tint[k] * Wide(surface.albedo[k]);
+    tint_scale = tint_scale * Wide(255);
+  }
+  if (bounces == 0) return {base, 0};
+  const std::array<int, 3> channels{base.r(), base.g(), base.b()};
+  std::array<int, 3> mixed{};
+  for (std::size_t k = 0; k < 3; ++k) mixed[k] = std::clamp(Arith::floor_div(Wide(channels[k]) * tint[k], tint_scale), 0, 15);
+  return {Rgb444::from_channels(mixed[0], mixed[1], mixed[2]), bounces};
+}
+
+// Normal-map shading of every sphere (no mirrors): the board's function.
 template <class Arith>
 Rgb444 normal_shade_pixel(const Arith& arith, const Vec3<typename Arith::Wide>& d,
                           std::span<const KernelSphere<typename Arith::Coord>> spheres, Rgb444 background) {

@@ -1,6 +1,10 @@
 #include <tripsitter/device/device.h>
 
+#include <array>
+
 #include <gtest/gtest.h>
+
+#include <tripsitter/link/wire_v2.h>
 
 #include "test_util.h"
 
@@ -89,6 +93,57 @@ TEST(Device, RejectsAnInvalidPreset) {
   DevicePreset p = wide_preset();
   p.workers = 0;
   EXPECT_THROW(Device(p, link::WireVersion::kV2), std::invalid_argument);
+}
+
+// A v2 frame of metal spheres (pixel units) with the given albedos.
+std::vector<std::uint8_t> metal_frame(const DevicePreset& p, std::uint32_t sequence,
+                                      const std::vector<std::array<double, 4>>& xyzr,
+                                      const std::vector<std::array<std::uint8_t, 3>>& albedos) {
+  link::World w;
+  w.sequence = sequence;
+  w.frac_bits = static_cast<std::uint8_t>(p.frac_bits());
+  for (std::size_t i = 0; i < xyzr.size(); ++i) {
+    link::WireSphere ws;
+    ws.x = static_cast<std::int32_t>(p.x.quantize(xyzr[i][0]).raw);
+    ws.y = static_cast<std::int32_t>(p.y.quantize(xyzr[i][1]).raw);
+    ws.z = static_cast<std::int32_t>(p.z.quantize(xyzr[i][2]).raw);
+    ws.radius = static_cast<std::uint32_t>(p.radius.quantize(xyzr[i][3]).raw);
+    ws.material = link::kMaterialMetal;
+    ws.albedo = albedos[i];
+    ws.ior = 6144;
+    w.spheres.push_back(ws);
+  }
+  return link::encode_v2_frame(w);
+}
+
+TEST(Device, AMetalSphereFromTheWireReflectsTheBackground) {
+  const DevicePreset p = wide_preset();
+  Device d(p, link::WireVersion::kV2);
+  d.transfer(metal_frame(p, 1, {{0, 0, 400, 64}}, {{255, 170, 128}}));
+  FrameStats stats;
+  const auto pixels = visible_pixels(d, &stats);
+  EXPECT_EQ(stats.late_pixels, 0);
+  EXPECT_EQ(pixels[240 * 640 + 320], core::Rgb444::from_channels(0, 2, 3));  // (0, 3, 6) tinted
+  EXPECT_EQ(pixels[0], core::kBackground);
+  const Worker w(p);
+  for (int row = 0; row < 480; row += 5)
+    for (int col = 0; col < 640; ++col)
+      ASSERT_EQ(pixels[static_cast<std::size_t>(row * 640 + col)], w.shade(col, row, d.scene())) << col << "," << row;
+}
+
+// Two nearly flat mirrors around the camera: every pixel bounces 3 times, so each worker finishes 24 of its
+// 64 pixels (controller_test.cpp, Mirror.LatePixelsGrowWithTheBounceCutOff, has the arithmetic).
+TEST(Device, BouncingPixelsAreLateOnEveryLine) {
+  const DevicePreset p = wide_preset();
+  Device d(p, link::WireVersion::kV2);
+  d.transfer(metal_frame(p, 1, {{0, 0, 100000, 99000}, {0, 0, -100000, 99000}}, {{255, 255, 255}, {200, 200, 200}}));
+  FrameStats stats;
+  const auto pixels = visible_pixels(d, &stats);
+  EXPECT_EQ(stats.late_pixels, 400 * 480);
+  EXPECT_EQ(stats.late_lines, 480);
+  for (int row = 0; row < 480; row += 31)
+    for (int col = 240; col < 640; ++col) ASSERT_EQ(pixels[static_cast<std::size_t>(row * 640 + col)], core::kBlack);
+  EXPECT_NE(pixels[100 * 640 + 5], core::kBlack);
 }
 
 }  // namespace

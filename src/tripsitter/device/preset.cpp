@@ -6,14 +6,31 @@
 
 namespace tripsitter::device {
 
-std::int64_t DevicePreset::finish_cycle(std::int64_t k, std::int64_t spheres) const {
-  const std::int64_t per_sphere =
-      costs.sphere_test + std::int64_t{sqrt_iterations} * costs.sqrt_cycles_per_iteration + costs.closest_update;
+namespace {
+
+// One sphere test, from the pair entering to the closest-hit register holding its result.
+std::int64_t per_sphere_cycles(const DevicePreset& p) {
+  return p.costs.sphere_test + std::int64_t{p.sqrt_iterations} * p.costs.sqrt_cycles_per_iteration +
+         p.costs.closest_update;
+}
+
+}  // namespace
+
+std::int64_t DevicePreset::pixel_occupancy(std::int64_t spheres, int bounces) const {
+  const std::int64_t passes = std::int64_t{bounces} + 1;
   if (costs.pipelined) {
-    const std::int64_t latency = costs.pixel_setup + per_sphere + costs.shade;
-    return (k + 1) * std::max<std::int64_t>(spheres, 1) * costs.issue_interval + latency;
+    const std::int64_t pass_latency = costs.pixel_setup + per_sphere_cycles(*this);
+    return passes * std::max<std::int64_t>(spheres, 1) * costs.issue_interval + bounces * (pass_latency + costs.reflect);
   }
-  return (k + 1) * (costs.pixel_setup + spheres * per_sphere + costs.shade);
+  return costs.pixel_setup + passes * spheres * per_sphere_cycles(*this) + bounces * costs.reflect + costs.shade;
+}
+
+std::int64_t DevicePreset::drain_cycles() const {
+  return costs.pipelined ? costs.pixel_setup + per_sphere_cycles(*this) + costs.shade : 0;
+}
+
+std::int64_t DevicePreset::finish_cycle(std::int64_t k, std::int64_t spheres) const {
+  return (k + 1) * pixel_occupancy(spheres, 0) + drain_cycles();
 }
 
 std::optional<std::string> DevicePreset::validate() const {
@@ -26,6 +43,8 @@ std::optional<std::string> DevicePreset::validate() const {
   if (!x.is_signed || !y.is_signed || !z.is_signed || radius.is_signed)
     return "coordinates must be signed and the radius unsigned";
   if (sqrt_iterations < 1 || sqrt_iterations > kMaxSqrtIterations) return "sqrt iterations must be 1 to 30";
+  if (max_bounces < 0 || max_bounces > core::kMaxBounces) return "max bounces must be 0 to 6";
+  if (costs.reflect < 0) return "the reflection cost must not be negative";
   if (workers < 1 || workers > kLineWidth) return "workers must be 1 to 640";
   if (lead_cycles < 1 || lead_cycles > kLineCycles) return "lead cycles must be 1 to 3200";
   if (max_spheres < 1 || max_spheres > 1'000'000) return "scene memory must hold 1 to 1000000 spheres";
@@ -35,16 +54,19 @@ std::optional<std::string> DevicePreset::validate() const {
 DevicePreset wide_preset() {
   DevicePreset p;
   p.name = "wide";
-  p.summary = "s24.4 coordinates, 16-step sqrt, 10 pipelined workers: every line on time with up to 49 spheres";
+  p.summary =
+      "s24.4 coordinates, 16-step sqrt, 10 pipelined workers, mirrors up to 3 bounces: every line on time with up to "
+      "49 spheres and no metal in view";
   p.x = {24, 4, true};
   p.y = {24, 4, true};
   p.z = {24, 4, true};
   p.radius = {24, 4, false};
   p.sqrt_iterations = 16;
+  p.max_bounces = 3;
   p.workers = 10;
   p.lead_cycles = kLineCycles;  // the next line starts as soon as the current one is handed to the VGA block
   p.costs = {.pipelined = true, .pixel_setup = 2, .sphere_test = 12, .sqrt_cycles_per_iteration = 1,
-             .closest_update = 1, .shade = 4, .issue_interval = 1};
+             .closest_update = 1, .shade = 4, .reflect = 10, .issue_interval = 1};
   p.max_spheres = 4096;
   return p;
 }
@@ -58,11 +80,12 @@ DevicePreset board_2023_preset() {
   p.z = {15, 3, true};
   p.radius = {16, 3, false};  // 2^r for r <= 12 (the board itself failed above r = 8)
   p.sqrt_iterations = 16;
+  p.max_bounces = 0;  // the board had no reflections
   p.workers = 10;
   p.lead_cycles = 3000;
   // 2 + (12 + 16 * 2 + 1) + 4 = 51 cycles per pixel with one sphere, as measured on the board's design.
   p.costs = {.pipelined = false, .pixel_setup = 2, .sphere_test = 12, .sqrt_cycles_per_iteration = 2,
-             .closest_update = 1, .shade = 4, .issue_interval = 1};
+             .closest_update = 1, .shade = 4, .reflect = 10, .issue_interval = 1};
   p.max_spheres = 64;
   return p;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <tripsitter/core/fixed.h>
+#include <tripsitter/core/sphere_kernel.h>
 
 namespace tripsitter::device {
 
@@ -18,12 +19,16 @@ inline constexpr int kCyclesPerPixelClock = kDeviceClockHz / kPixelClockHz;  // 
 inline constexpr int kLineWidth = 640;
 inline constexpr int kLineCycles = 800 * kCyclesPerPixelClock;               // 3200 device cycles per line
 
-// What one worker spends, in device cycles. A pixel's ray is tested against every sphere in turn.
-//   not pipelined: each pixel costs pixel_setup + spheres * (sphere_test + sqrt + closest_update) + shade,
-//                  and a worker's pixels run back to back, so pixel k is done after (k + 1) such costs;
-//   pipelined:     a new (pixel, sphere) pair enters every `issue_interval` cycles, and a pixel's colour is
-//                  ready pixel_setup + sphere_test + sqrt + closest_update + shade cycles after its last
-//                  sphere entered, so pixel k is done after (k + 1) * spheres * issue_interval + that latency.
+// What one worker spends, in device cycles. A pixel's ray is tested against every sphere in turn (a pass);
+// a pixel that reflects off k metals makes k + 1 passes and k reflection steps (docs/device.md).
+//   not pipelined: a pixel costs pixel_setup + (k + 1) * spheres * (sphere_test + sqrt + closest_update)
+//                  + k * reflect + shade, and a worker's pixels run back to back;
+//   pipelined:     a new (pixel, sphere) pair enters every `issue_interval` cycles, so a pass issues for
+//                  spheres * issue_interval cycles; its closest hit is known pass_latency = pixel_setup +
+//                  sphere_test + sqrt + closest_update cycles after its last pair entered, and a colour
+//                  shade cycles later. A reflected pass can only start issuing once the previous pass's hit
+//                  is known and reflected (pass_latency + reflect cycles of stall); the worker is in order,
+//                  so its next pixel starts issuing when this pixel's last pass has issued.
 // sqrt = sqrt_iterations * sqrt_cycles_per_iteration.
 struct CycleCosts {
   bool pipelined = false;
@@ -32,6 +37,7 @@ struct CycleCosts {
   int sqrt_cycles_per_iteration = 2;
   int closest_update = 1;
   int shade = 4;
+  int reflect = 10;        // one reflection: hit point, normal, reflected direction, scaling
   int issue_interval = 1;  // pipelined only
 };
 
@@ -44,6 +50,7 @@ struct DevicePreset {
   core::FixedFormat z{15, 3, true};
   core::FixedFormat radius{12, 3, false};
   int sqrt_iterations = 16;
+  int max_bounces = 0;  // reflections traced per pixel off metals, 0..core::kMaxBounces (0: metals are normal-shaded)
   int workers = 10;
   // The controller hands a line to the workers this many cycles before the line is shown (<= kLineCycles).
   int lead_cycles = 3000;
@@ -51,8 +58,14 @@ struct DevicePreset {
   std::uint32_t max_spheres = 1;  // scene memory capacity
 
   int frac_bits() const { return x.frac_bits; }  // the same for x, y, z and radius
+  // Cycles a pixel with `bounces` reflections keeps its worker from starting the next pixel, with
+  // `spheres` spheres in scene memory.
+  std::int64_t pixel_occupancy(std::int64_t spheres, int bounces) const;
+  // Cycles from a worker moving on from a pixel until the pixel's colour is ready (0 when not pipelined).
+  std::int64_t drain_cycles() const;
   // Cycles from the start of a line's work until a worker's k-th pixel (k = 0, 1, ...) has its colour,
-  // with `spheres` spheres in scene memory. The schedule does not depend on the data.
+  // when no pixel reflects: (k + 1) * pixel_occupancy(spheres, 0) + drain_cycles(). With reflections the
+  // controller sums each pixel's own occupancy.
   std::int64_t finish_cycle(std::int64_t k, std::int64_t spheres) const;
   // Why the preset cannot work, or nothing when it is consistent.
   std::optional<std::string> validate() const;

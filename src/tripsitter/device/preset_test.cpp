@@ -19,6 +19,27 @@ TEST(Preset, WideMeetsEveryLineUpToFortyNineSpheres) {
   EXPECT_GT(p.finish_cycle(63, 50), p.lead_cycles);
 }
 
+TEST(Preset, BouncesCostPassesAndReflections) {
+  const DevicePreset board = board_2023_preset();
+  EXPECT_EQ(board.max_bounces, 0);  // the board had no reflections
+  EXPECT_EQ(board.drain_cycles(), 0);
+  EXPECT_EQ(board.pixel_occupancy(1, 0), 51);
+  // Not pipelined: 2 + (k + 1) * spheres * 45 + k * 10 + 4.
+  EXPECT_EQ(board.pixel_occupancy(1, 1), 2 + 2 * 45 + 10 + 4);
+  EXPECT_EQ(board.pixel_occupancy(7, 3), 2 + 4 * 7 * 45 + 3 * 10 + 4);
+  const DevicePreset wide = wide_preset();
+  EXPECT_EQ(wide.max_bounces, 3);
+  EXPECT_EQ(wide.costs.reflect, 10);
+  // Pipelined: each pass issues `spheres` pairs; a reflected pass waits 31 cycles for the previous pass's hit
+  // (2 + 12 + 16 + 1) and 10 for the reflection; the colour is ready 35 cycles after the last pass issued.
+  EXPECT_EQ(wide.drain_cycles(), 35);
+  EXPECT_EQ(wide.pixel_occupancy(49, 0), 49);
+  EXPECT_EQ(wide.pixel_occupancy(20, 1), 2 * 20 + 41);
+  EXPECT_EQ(wide.pixel_occupancy(20, 3), 4 * 20 + 3 * 41);
+  // The no-reflection schedule is unchanged.
+  EXPECT_EQ(wide.finish_cycle(63, 49), 64 * 49 + 35);
+}
+
 TEST(Preset, NamesResolveAndValidate) {
   for (const auto& name : preset_names()) {
     const auto p = preset_by_name(name);
@@ -42,6 +63,13 @@ TEST(Preset, ValidateNamesTheProblem) {
   p = wide_preset();
   p.sqrt_iterations = 31;
   EXPECT_TRUE(p.validate().has_value());
+  p = wide_preset();
+  p.max_bounces = core::kMaxBounces + 1;
+  EXPECT_TRUE(p.validate().has_value());
+  p.max_bounces = -1;
+  EXPECT_TRUE(p.validate().has_value());
+  p.max_bounces = core::kMaxBounces;
+  EXPECT_FALSE(p.validate().has_value());
 }
 
 }  // namespace

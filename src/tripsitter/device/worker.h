@@ -1,31 +1,72 @@
 // A ray-tracing worker: the pure per-pixel function of the device, in the device's fixed point.
 #pragma once
 
+#include <algorithm>
+#include <bit>
+#include <cassert>
 #include <cstdint>
 #include <limits>
+#include <span>
 
 #include <tripsitter/core/fixed.h>
 #include <tripsitter/core/rgb444.h>
 #include <tripsitter/core/sphere_kernel.h>
+#include <tripsitter/device/preset.h>
 #include <tripsitter/device/scene_memory.h>
 #include <tripsitter/device/sqrt_unit.h>
+#include <tripsitter/link/wire_v2.h>
 
 namespace tripsitter::device {
 
 // The kernel's arithmetic on the device: raw fixed point in 64 bits, products in 128, the square-root unit.
+// docs/device.md bounds every intermediate; the widest (b^2 and 4ac' of a reflected ray) stays below 2^95.
 struct FixedArith {
   using Coord = std::int64_t;
   using Wide = core::Int128;
 
   SqrtUnit sqrt_unit;
 
-  Wide sqrt(Wide d) const { return sqrt_unit(static_cast<core::UInt128>(d)); }
+  Wide sqrt(Wide d) const {
+    assert(d >= 0 && d < (Wide{1} << 126));
+    return sqrt_unit(static_cast<core::UInt128>(d));
+  }
   static int floor_div(Wide n, Wide d) {
     Wide q = n / d;
     if (n % d != 0 && n < 0) --q;
     if (q > std::numeric_limits<int>::max()) return std::numeric_limits<int>::max();
     if (q < std::numeric_limits<int>::min()) return std::numeric_limits<int>::min();
     return static_cast<int>(q);
+  }
+  // n / d rounded to the nearest integer, ties away from zero. d > 0.
+  static Wide round_div(Wide n, Wide d) {
+    const Wide q = n / d;
+    const Wide r = n % d;
+    if (2 * (r < 0 ? -r : r) >= d) return n < 0 ? q - 1 : q + 1;
+    return q;
+  }
+  // r shifted right by the least s >= 0 that brings every |r_k| to at most 2^kDirectionBits, rounding to
+  // nearest (ties away from zero, symmetric in sign): a leading-zero count and a barrel shifter.
+  static core::Vec3<Wide> scale_direction(const core::Vec3<Wide>& r) {
+    core::UInt128 largest = 0;
+    for (int k = 0; k < 3; ++k) largest = std::max(largest, magnitude(r[k]));
+    assert(largest < (core::UInt128{1} << 100));
+    const int shift = bit_length(largest) - core::kDirectionBits;
+    if (shift <= 0) return r;
+    core::Vec3<Wide> out;
+    const core::UInt128 half = core::UInt128{1} << (shift - 1);
+    for (int k = 0; k < 3; ++k) {
+      const auto v = static_cast<Wide>((magnitude(r[k]) + half) >> shift);
+      out[k] = r[k] < 0 ? -v : v;
+    }
+    return out;
+  }
+
+ private:
+  static core::UInt128 magnitude(Wide v) { return static_cast<core::UInt128>(v < 0 ? -v : v); }
+  static int bit_length(core::UInt128 v) {
+    const auto hi = static_cast<std::uint64_t>(v >> 64);
+    if (hi != 0) return 128 - std::countl_zero(hi);
+    return 64 - std::countl_zero(static_cast<std::uint64_t>(v));
   }
 };
 
@@ -34,17 +75,32 @@ inline core::Vec3<core::Int128> device_ray(int col, int row) { return {col - 320
 
 class Worker {
  public:
-  explicit Worker(int sqrt_iterations) : arith_{SqrtUnit(sqrt_iterations)} {}
+  // REQUIRES 0 <= max_bounces <= core::kMaxBounces.
+  explicit Worker(int sqrt_iterations, int max_bounces = 0)
+      : arith_{SqrtUnit(sqrt_iterations)}, max_bounces_(max_bounces) {}
+  explicit Worker(const DevicePreset& preset) : Worker(preset.sqrt_iterations, preset.max_bounces) {}
 
-  // The colour of one pixel: closest hit over all spheres, normal-map shaded, background 0x036.
-  core::Rgb444 shade(int col, int row, const SceneMemory& scene) const {
-    return core::normal_shade_pixel(arith_, device_ray(col, row),
-                                    std::span<const core::KernelSphere<std::int64_t>>(scene.geometry),
-                                    core::kBackground);
+  // One pixel in the mirror model: closest hit over all spheres; a metal reflects (up to max_bounces
+  // times) and tints what its reflected ray sees; anything else is normal-map shaded; a miss is 0x036.
+  // Sphere i is lambertian when scene memory holds no surface for it.
+  core::PixelTrace trace(int col, int row, const SceneMemory& scene) const {
+    const auto surface_of = [&scene](int i) {
+      const auto index = static_cast<std::size_t>(i);
+      if (index >= scene.surfaces.size()) return core::KernelSurface{};
+      const SurfaceWord& s = scene.surfaces[index];
+      return core::KernelSurface{s.material == link::kMaterialMetal, s.albedo};
+    };
+    return core::trace_pixel(arith_, device_ray(col, row),
+                             std::span<const core::KernelSphere<std::int64_t>>(scene.geometry), surface_of,
+                             core::kBackground, max_bounces_);
   }
+  // The colour of one pixel (trace without the bounce count).
+  core::Rgb444 shade(int col, int row, const SceneMemory& scene) const { return trace(col, row, scene).colour; }
+  int max_bounces() const { return max_bounces_; }
 
  private:
   FixedArith arith_;
+  int max_bounces_;
 };
 
 }  // namespace tripsitter::device
