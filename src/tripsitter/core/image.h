@@ -1,7 +1,8 @@
-// Images as the monitor shows them: 12-bit colour, row-major, top row first.
+// Images: 12-bit colour as the monitor shows it, and 24-bit colour as the float renderer writes it.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <algorithm>
 #include <cstdlib>
 #include <vector>
@@ -26,6 +27,17 @@ struct Image444 {
   std::size_t index(int x, int y) const {
     return static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
   }
+};
+
+// 24-bit colour, as the float renderer writes it: r, g, b bytes per pixel, row-major, top row first.
+struct ImageRgb8 {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> pixels;  // 3 * width * height
+
+  ImageRgb8() = default;
+  ImageRgb8(int w, int h) : width(w), height(h), pixels(3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h)) {}
+  bool operator==(const ImageRgb8&) const = default;
 };
 
 // How two images of the same size differ, channel by channel, in 4-bit levels.

@@ -44,18 +44,23 @@ std::FILE* create_temp_beside(const std::string& path, std::string& tmp_path, in
 }  // namespace
 
 core::Result<bool, IoError> write_png(const std::string& path, const core::Image444& image) {
-  const char* kWhat = "cannot write PNG";
-  if (image.width <= 0 || image.height <= 0 ||
-      image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height)) {
-    return error(kWhat, path, "image is empty or its pixel count does not match its size");
-  }
-
-  std::vector<std::uint8_t> rgb(image.pixels.size() * 3);
+  core::ImageRgb8 rgb(image.width, image.height);
+  if (image.pixels.size() * 3 != rgb.pixels.size())
+    return error("cannot write PNG", path, "image is empty or its pixel count does not match its size");
   for (std::size_t i = 0; i < image.pixels.size(); ++i) {
     const core::Rgb444 c = image.pixels[i];
-    rgb[3 * i + 0] = core::Rgb444::expand(c.r());
-    rgb[3 * i + 1] = core::Rgb444::expand(c.g());
-    rgb[3 * i + 2] = core::Rgb444::expand(c.b());
+    rgb.pixels[3 * i + 0] = core::Rgb444::expand(c.r());
+    rgb.pixels[3 * i + 1] = core::Rgb444::expand(c.g());
+    rgb.pixels[3 * i + 2] = core::Rgb444::expand(c.b());
+  }
+  return write_png(path, rgb);
+}
+
+core::Result<bool, IoError> write_png(const std::string& path, const core::ImageRgb8& image) {
+  const char* kWhat = "cannot write PNG";
+  if (image.width <= 0 || image.height <= 0 ||
+      image.pixels.size() != 3 * static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height)) {
+    return error(kWhat, path, "image is empty or its pixel count does not match its size");
   }
 
   std::string tmp_path;
@@ -69,7 +74,7 @@ core::Result<bool, IoError> write_png(const std::string& path, const core::Image
   png.width = static_cast<png_uint_32>(image.width);
   png.height = static_cast<png_uint_32>(image.height);
   png.format = PNG_FORMAT_RGB;
-  const bool written = png_image_write_to_stdio(&png, f, 0, rgb.data(), 0, nullptr) != 0;
+  const bool written = png_image_write_to_stdio(&png, f, 0, image.pixels.data(), 0, nullptr) != 0;
   const std::string png_message = png.message;
   png_image_free(&png);
   const bool flushed = std::fflush(f) == 0 && std::ferror(f) == 0;

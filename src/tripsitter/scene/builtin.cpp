@@ -1,5 +1,7 @@
 #include <tripsitter/scene/builtin.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace tripsitter::scene {
@@ -46,13 +48,57 @@ Scene cluster() {
 // Uniform double in [0, 1) from a 64-bit draw; unlike std::uniform_real_distribution, the same on every library.
 double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
+// The classic cover image of sphere ray tracers: a huge ground sphere, a 22 x 22 grid of small spheres
+// of mixed materials, and three large ones (glass, matte, metal). 488 spheres.
+Scene field() {
+  Scene s;
+  s.name = "field";
+  s.camera.lookfrom = {13, 2, 3};
+  s.camera.lookat = {0, 0, 0};
+  s.camera.vfov = 20;
+  s.camera.defocus_angle = 0.6;
+  s.camera.focus_dist = 10;
+  s.render = {640, 360, 16, 50};
+  s.spheres.push_back({{0, -1000, 0}, 1000, lambertian(0.5, 0.5, 0.5)});
+  std::mt19937_64 rng(2023);
+  for (int a = -11; a < 11; ++a) {
+    for (int b = -11; b < 11; ++b) {
+      const double choose = unit(rng);
+      const Vec3d centre{a + 0.9 * unit(rng), 0.2, b + 0.9 * unit(rng)};
+      Material m;
+      if (choose < 0.8) {
+        m = lambertian(unit(rng) * unit(rng), unit(rng) * unit(rng), unit(rng) * unit(rng));
+      } else if (choose < 0.95) {
+        m = metal(0.5 + 0.5 * unit(rng), 0.5 + 0.5 * unit(rng), 0.5 + 0.5 * unit(rng), 0.5 * unit(rng));
+      } else {
+        m = dielectric(1.5);
+      }
+      s.spheres.push_back({centre, 0.2, m});
+    }
+  }
+  s.spheres.push_back({{0, 1, 0}, 1.0, dielectric(1.5)});
+  s.spheres.push_back({{-4, 1, 0}, 1.0, lambertian(0.4, 0.2, 0.1)});
+  s.spheres.push_back({{4, 1, 0}, 1.0, metal(0.7, 0.6, 0.5, 0.0)});
+  return s;
+}
+
 }  // namespace
 
-std::vector<std::string> builtin_names() { return {"demo", "cluster"}; }
+std::vector<std::string> builtin_names() { return {"demo", "cluster", "field"}; }
 
 std::optional<Scene> builtin(std::string_view name) {
   if (name == "demo") return demo();
   if (name == "cluster") return cluster();
+  if (name == "field") return field();
+  // random-N: random_spheres(N, 1), N from 0 to kMaxSpheres.
+  if (name.starts_with("random-") && name.size() > 7 && name.size() <= 15) {
+    std::size_t n = 0;
+    for (char c : name.substr(7)) {
+      if (c < '0' || c > '9') return std::nullopt;
+      n = n * 10 + static_cast<std::size_t>(c - '0');
+    }
+    if (n <= kMaxSpheres) return random_spheres(static_cast<int>(n), 1);
+  }
   return std::nullopt;
 }
 
@@ -70,7 +116,8 @@ Scene random_spheres(int count, std::uint32_t seed) {
     const double depth = 5 + 30 * unit(rng);
     const double x = (2 * unit(rng) - 1) * depth;
     const double y = (2 * unit(rng) - 1) * depth * 0.75;
-    const double radius = 0.3 + 1.7 * unit(rng);
+    // Past 64 spheres they shrink with the cube root of the count, so a million still leave gaps.
+    const double radius = (0.3 + 1.7 * unit(rng)) * std::min(1.0, std::cbrt(64.0 / std::max(count, 1)));
     const double kind = unit(rng);
     Material m;
     if (kind < 0.6) {

@@ -11,7 +11,8 @@
 
 namespace tripsitter::scene {
 
-// The names of the built-in scenes, in the order `--help` lists them.
+// The names of the built-in scenes, in the order `--help` lists them. Besides these, builtin() knows the
+// family random-N: random-1000 is random_spheres(1000, 1).
 std::vector<std::string> builtin_names();
 
 // The scene of that name, or nothing when there is none.

@@ -67,7 +67,7 @@ bool SameSpheres(const Scene& a, const Scene& b) {
   return true;
 }
 
-TEST(Builtin, NamesInHelpOrder) { EXPECT_EQ(builtin_names(), (std::vector<std::string>{"demo", "cluster"})); }
+TEST(Builtin, NamesInHelpOrder) { EXPECT_EQ(builtin_names(), (std::vector<std::string>{"demo", "cluster", "field"})); }
 
 TEST(Builtin, EveryNameHasAValidSceneOfThatName) {
   for (const std::string& name : builtin_names()) {
@@ -79,6 +79,17 @@ TEST(Builtin, EveryNameHasAValidSceneOfThatName) {
     ExpectValid(*s);
     for (const Sphere& sp : s->spheres) EXPECT_GT(DepthInView(*s, sp.center) + sp.radius, 0);
   }
+}
+
+TEST(Builtin, RandomFamilyByName) {
+  const std::optional<Scene> s = builtin("random-100");
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->spheres.size(), 100u);
+  EXPECT_EQ(s->name, "random-100");
+  EXPECT_EQ(builtin("random-0")->spheres.size(), 0u);
+  EXPECT_FALSE(builtin("random-").has_value());
+  EXPECT_FALSE(builtin("random-1x").has_value());
+  EXPECT_FALSE(builtin("random-99999999").has_value());  // above the sphere limit
 }
 
 TEST(Builtin, UnknownNamesHaveNoScene) {
@@ -138,12 +149,13 @@ TEST(RandomSpheres, DeterministicInTheSeed) {
   EXPECT_TRUE(SameSpheres(a, b));
   EXPECT_EQ(a.name, b.name);
   EXPECT_FALSE(SameSpheres(a, random_spheres(500, 43)));
-  // A longer list starts with the shorter one: sphere i depends only on the seed and i.
-  const Scene c = random_spheres(100, 42);
-  ASSERT_EQ(c.spheres.size(), 100u);
-  Scene prefix = a;
-  prefix.spheres.resize(100);
+  // Up to 64 spheres, a longer list starts with the shorter one: sphere i depends only on the seed and i
+  // (past 64 the radii shrink with the count).
+  const Scene c = random_spheres(30, 42);
+  Scene prefix = random_spheres(64, 42);
+  prefix.spheres.resize(30);
   EXPECT_TRUE(SameSpheres(prefix, c));
+  EXPECT_LT(a.spheres[0].radius, prefix.spheres[0].radius);
 }
 
 TEST(RandomSpheres, UsesEveryMaterial) {
@@ -151,6 +163,19 @@ TEST(RandomSpheres, UsesEveryMaterial) {
   std::set<MaterialType> types;
   for (const Sphere& sp : s.spheres) types.insert(sp.material.type);
   EXPECT_EQ(types.size(), 3u);
+}
+
+TEST(Builtin, FieldIsTheCoverLayoutOf488Spheres) {
+  const Scene s = *builtin("field");
+  ASSERT_EQ(s.spheres.size(), 488u);
+  EXPECT_DOUBLE_EQ(s.spheres[0].radius, 1000.0);  // the ground
+  int kinds[3] = {0, 0, 0};
+  for (const auto& sphere : s.spheres) ++kinds[static_cast<int>(sphere.material.type)];
+  EXPECT_GT(kinds[0], 300);  // mostly matte
+  EXPECT_GT(kinds[1], 20);
+  EXPECT_GT(kinds[2], 5);
+  EXPECT_EQ(s.render.width, 640);
+  EXPECT_EQ(s.render.height, 360);
 }
 
 }  // namespace

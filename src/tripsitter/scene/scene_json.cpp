@@ -699,7 +699,8 @@ SceneResult resolve_scene(const std::string& name_or_path) {
     std::string names;
     for (const std::string& name : builtin_names()) names += (names.empty() ? "" : ", ") + name;
     return SceneError{name_or_path, 0, 0,
-                      "no built-in scene of that name and no such file; the built-in scenes are " + names};
+                      "no built-in scene of that name and no such file; the built-in scenes are " + names +
+                          " and random-N (N random spheres)"};
   }
   return load_scene_file(name_or_path);
 }

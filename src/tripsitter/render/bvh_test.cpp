@@ -1,0 +1,492 @@
+// Tests of the float ray-sphere kernel against a double reference, and of the BVH against brute force.
+#include <tripsitter/render/bvh.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace tripsitter::render {
+namespace {
+
+using core::Vec3d;
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr double kFloatEps = 0x1p-24;  // unit roundoff of float
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+Vec3d to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
+
+float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
+float log_uniform(std::mt19937& rng, float lo, float hi) {
+  return std::exp(uniform(rng, std::log(lo), std::log(hi)));
+}
+Vec3f uniform_in_box(std::mt19937& rng, float lo, float hi) {
+  return {uniform(rng, lo, hi), uniform(rng, lo, hi), uniform(rng, lo, hi)};
+}
+Vec3f random_unit(std::mt19937& rng) {
+  std::normal_distribution<float> n;
+  for (;;) {
+    const Vec3f v{n(rng), n(rng), n(rng)};
+    const float len = length(v);
+    if (len > 1e-3f) return v / len;
+  }
+}
+
+// Both roots of ray and sphere in double from the exact float inputs, and how far the line passes from the
+// surface (|r - |f||: near zero means a grazing ray, whose hit or miss float cannot decide).
+struct Reference {
+  bool hits = false;
+  double t_near = 0, t_far = 0;
+  double graze = 0;
+  double condition = 1;  // 1 + |f| / half chord: how much an error in f moves the roots (large when grazing)
+};
+
+Reference reference(const Ray& ray, const Vec3f& center, float radius) {
+  const Vec3d o = to_double(ray.origin), d = to_double(ray.dir), c = to_double(center);
+  const double r = radius;
+  const Vec3d oc = o - c;
+  const double a = dot(d, d), b = dot(oc, d);
+  const Vec3d f = oc - d * (b / a);
+  const double f_len = length(f);
+  Reference ref;
+  ref.graze = std::abs(r - f_len);
+  const double disc = a * (r - f_len) * (r + f_len);
+  if (disc < 0) return ref;
+  const double q = -(b + std::copysign(std::sqrt(disc), b));
+  const double t0 = q / a, t1 = dot(oc, oc) - r * r == 0 ? 0 : (dot(oc, oc) - r * r) / q;
+  ref.hits = true;
+  ref.condition = 1 + f_len / std::sqrt((r - f_len) * (r + f_len));
+  ref.t_near = std::min(t0, t1);
+  ref.t_far = std::max(t0, t1);
+  return ref;
+}
+
+// The float kernel's error budget: 1e-4 relative, plus a few float ulps of |origin - center| + r in units of |dir|,
+// amplified by the root's condition number (1 / sine of the incidence angle, roughly). The second term comes from
+// rounding origin - center itself, which no float formulation avoids; it only matters for an origin much closer to
+// a huge sphere's surface than the sphere's size, or for shallow rays there.
+double tolerance(const Ray& ray, const Vec3f& center, float radius, const Reference& ref, double t) {
+  const double scale = (length(to_double(ray.origin) - to_double(center)) + radius) / length(to_double(ray.dir));
+  return 1e-4 * std::abs(t) + 8 * kFloatEps * scale * ref.condition;
+}
+
+// A family of rays and spheres for the kernel test.
+struct KernelCase {
+  Ray ray;
+  Vec3f center;
+  float radius;
+  float t_min, t_max;
+};
+
+// Checks intersect_sphere on one family; returns how many cases were decidable (not grazing, roots not at the
+// interval's ends) so that each family can insist on being mostly decidable.
+int check_kernel(const std::vector<KernelCase>& cases, const char* family) {
+  int decidable = 0, hits = 0;
+  for (const KernelCase& k : cases) {
+    const Reference ref = reference(k.ray, k.center, k.radius);
+    const double scale = length(to_double(k.ray.origin) - to_double(k.center)) + k.radius;
+    if (ref.graze < 1e-3 * k.radius + 8 * kFloatEps * scale) continue;
+    // The reference's choice, skipped when a root sits within tolerance of t_min or t_max.
+    bool near_boundary = false;
+    for (double root : {ref.t_near, ref.t_far}) {
+      const double tol = tolerance(k.ray, k.center, k.radius, ref, root);
+      if (ref.hits && (std::abs(root - k.t_min) < tol || std::abs(root - k.t_max) < tol)) near_boundary = true;
+    }
+    if (near_boundary) continue;
+    ++decidable;
+    bool want = false;
+    double want_t = 0;
+    if (ref.hits && ref.t_near > k.t_min && ref.t_near < k.t_max) {
+      want = true;
+      want_t = ref.t_near;
+    } else if (ref.hits && ref.t_far > k.t_min && ref.t_far < k.t_max) {
+      want = true;
+      want_t = ref.t_far;
+    }
+    float t = -1;
+    const bool got = intersect_sphere(k.ray, k.center, k.radius, k.t_min, k.t_max, t);
+    EXPECT_EQ(got, want) << family << ": origin " << k.ray.origin.x << "," << k.ray.origin.y << ","
+                         << k.ray.origin.z << " radius " << k.radius;
+    if (got && want) {
+      ++hits;
+      EXPECT_NEAR(t, want_t, tolerance(k.ray, k.center, k.radius, ref, want_t)) << family;
+    }
+  }
+  EXPECT_GT(decidable, static_cast<int>(cases.size()) * 8 / 10) << family;
+  EXPECT_GT(hits, static_cast<int>(cases.size()) / 5) << family;
+  return decidable;
+}
+
+TEST(IntersectSphere, SmallScenesMatchDoubleReference) {
+  std::mt19937 rng(1);
+  std::vector<KernelCase> cases;
+  for (int i = 0; i < 20000; ++i) {
+    KernelCase k;
+    k.center = uniform_in_box(rng, -10, 10);
+    k.radius = log_uniform(rng, 0.05f, 5.0f);
+    k.ray.origin = uniform_in_box(rng, -20, 20);
+    // Aim near the sphere so that about half the rays hit; scale the direction away from unit length.
+    const Vec3f target = k.center + random_unit(rng) * (k.radius * uniform(rng, 0, 1.5f));
+    k.ray.dir = normalize(target - k.ray.origin) * log_uniform(rng, 0.01f, 100.0f);
+    k.t_min = 0;
+    k.t_max = kInf;
+    cases.push_back(k);
+  }
+  check_kernel(cases, "small");
+}
+
+TEST(IntersectSphere, GroundSphereOfRadius1000MatchesDoubleReference) {
+  std::mt19937 rng(2);
+  std::vector<KernelCase> cases;
+  for (int i = 0; i < 20000; ++i) {
+    KernelCase k;
+    k.center = {0, -1000, 0};
+    k.radius = 1000;
+    // From just above the ground to ~1000 away, as a camera over the cover scene or a view of the whole globe.
+    const float height = log_uniform(rng, 0.5f, 2000.0f);
+    k.ray.origin = {uniform(rng, -50, 50), height, uniform(rng, -50, 50)};
+    k.ray.dir = random_unit(rng) * uniform(rng, 0.5f, 2.0f);
+    k.t_min = 1e-3f;
+    k.t_max = kInf;
+    cases.push_back(k);
+  }
+  check_kernel(cases, "ground 1e3");
+}
+
+TEST(IntersectSphere, HugeSphereOfRadius1e6MatchesDoubleReference) {
+  std::mt19937 rng(3);
+  std::vector<KernelCase> cases;
+  for (int i = 0; i < 20000; ++i) {
+    KernelCase k;
+    k.center = {0, -1e6f, 0};
+    k.radius = 1e6f;
+    const float height = log_uniform(rng, 1.0f, 3e6f);
+    k.ray.origin = {uniform(rng, -1000, 1000), height, uniform(rng, -1000, 1000)};
+    k.ray.dir = random_unit(rng);
+    k.t_min = 1e-3f;
+    k.t_max = kInf;
+    cases.push_back(k);
+  }
+  check_kernel(cases, "ground 1e6");
+}
+
+TEST(IntersectSphere, FarSpheresMatchDoubleReference) {
+  // The textbook b^2 - 4ac loses every digit here: both terms are ~|oc|^4 while their difference is ~|oc|^2 r^2.
+  std::mt19937 rng(4);
+  std::vector<KernelCase> cases;
+  for (int i = 0; i < 20000; ++i) {
+    KernelCase k;
+    k.center = random_unit(rng) * log_uniform(rng, 1e3f, 1e6f);
+    k.radius = log_uniform(rng, 0.5f, 100.0f);
+    k.ray.origin = uniform_in_box(rng, -10, 10);
+    const Vec3f target = k.center + random_unit(rng) * (k.radius * uniform(rng, 0, 1.5f));
+    k.ray.dir = normalize(target - k.ray.origin);
+    k.t_min = 1e-3f;
+    k.t_max = kInf;
+    cases.push_back(k);
+  }
+  check_kernel(cases, "far");
+}
+
+TEST(IntersectSphere, FromInsideReturnsTheFarRoot) {
+  std::mt19937 rng(5);
+  for (int i = 0; i < 5000; ++i) {
+    const Vec3f center = uniform_in_box(rng, -100, 100);
+    const float radius = log_uniform(rng, 0.01f, 1e4f);
+    const Ray ray{center + random_unit(rng) * (radius * uniform(rng, 0, 0.9f)), random_unit(rng) * 3.0f};
+    const Reference ref = reference(ray, center, radius);
+    ASSERT_TRUE(ref.hits);
+    ASSERT_LT(ref.t_near, 0);
+    float t = 0;
+    ASSERT_TRUE(intersect_sphere(ray, center, radius, 0, kInf, t));
+    EXPECT_NEAR(t, ref.t_far, tolerance(ray, center, radius, ref, ref.t_far));
+  }
+}
+
+TEST(IntersectSphere, RespectsOpenInterval) {
+  const Ray ray{{0, 0, -10}, {0, 0, 2}};  // meets the unit sphere at z = -1 and 1: t = 4.5 and 5.5
+  const Vec3f center{0, 0, 0};
+  float t = 0;
+  ASSERT_TRUE(intersect_sphere(ray, center, 1, 0, kInf, t));
+  EXPECT_FLOAT_EQ(t, 4.5f);
+  ASSERT_TRUE(intersect_sphere(ray, center, 1, 5, kInf, t));
+  EXPECT_FLOAT_EQ(t, 5.5f);
+  EXPECT_FALSE(intersect_sphere(ray, center, 1, 6, kInf, t));
+  EXPECT_FALSE(intersect_sphere(ray, center, 1, 0, 4, t));
+  ASSERT_TRUE(intersect_sphere(ray, center, 1, 0, 5, t));
+  EXPECT_FLOAT_EQ(t, 4.5f);
+  // The ends are excluded: a root equal to t_min or t_max is not returned.
+  EXPECT_FALSE(intersect_sphere(ray, center, 1, 0, 4.5f, t));
+  ASSERT_TRUE(intersect_sphere(ray, center, 1, 4.5f, kInf, t));
+  EXPECT_FLOAT_EQ(t, 5.5f);
+  EXPECT_FALSE(intersect_sphere(ray, center, 1, 5.5f, kInf, t));
+  // Behind the origin.
+  EXPECT_FALSE(intersect_sphere({{0, 0, 10}, {0, 0, 1}}, center, 1, 0, kInf, t));
+}
+
+TEST(IntersectSphere, ZeroDirectionNeverHits) {
+  float t = 0;
+  EXPECT_FALSE(intersect_sphere({{0, 0, 0}, {0, 0, 0}}, {0, 0, 0}, 1, 0, kInf, t));
+  EXPECT_FALSE(intersect_sphere({{0, 0, -5}, {0, 0, 0}}, {0, 0, 0}, 1, -kInf, kInf, t));
+}
+
+TEST(BruteForce, ClosestHitAndTiesToLowerIndex) {
+  const std::vector<Vec3f> centers{{0, 0, 10}, {0, 0, 5}, {0, 0, 5}, {0, 0, 20}};
+  const std::vector<float> radii{1, 1, 1, 1};
+  SphereHit hit;
+  ASSERT_TRUE(intersect_brute_force(centers, radii, {{0, 0, 0}, {0, 0, 1}}, 0, kInf, hit));
+  EXPECT_EQ(hit.sphere, 1u);
+  EXPECT_FLOAT_EQ(hit.t, 4);
+  ASSERT_TRUE(intersect_brute_force(centers, radii, {{0, 0, 0}, {0, 0, 1}}, 7, kInf, hit));
+  EXPECT_EQ(hit.sphere, 0u);
+  EXPECT_FALSE(intersect_brute_force(centers, radii, {{0, 0, 0}, {0, 0, -1}}, 0, kInf, hit));
+  EXPECT_FALSE(intersect_brute_force({}, {}, {{0, 0, 0}, {0, 0, 1}}, 0, kInf, hit));
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// BVH against brute force.
+
+struct Scene {
+  std::vector<Vec3f> centers;
+  std::vector<float> radii;
+};
+
+// A random ray for a scene spanning about [-extent, extent]^3: from outside or inside the scene, from inside a
+// sphere, with some direction components exactly +0 or -0, and with varied t_min and t_max.
+struct Query {
+  Ray ray;
+  float t_min, t_max;
+};
+
+Query random_query(std::mt19937& rng, const Scene& scene, float extent) {
+  Query q;
+  const int kind = std::uniform_int_distribution<int>(0, 9)(rng);
+  if (kind < 3 && !scene.centers.empty()) {
+    // From inside (or on) a sphere.
+    const auto i = std::uniform_int_distribution<std::size_t>(0, scene.centers.size() - 1)(rng);
+    q.ray.origin = scene.centers[i] + random_unit(rng) * (scene.radii[i] * uniform(rng, 0, 1));
+  } else {
+    q.ray.origin = uniform_in_box(rng, -2 * extent, 2 * extent);
+  }
+  if (kind >= 3 && kind < 6 && !scene.centers.empty()) {
+    // Aimed at a sphere, so that most rays hit something.
+    const auto i = std::uniform_int_distribution<std::size_t>(0, scene.centers.size() - 1)(rng);
+    q.ray.dir = scene.centers[i] + random_unit(rng) * scene.radii[i] - q.ray.origin;
+    if (dot(q.ray.dir, q.ray.dir) == 0) q.ray.dir = random_unit(rng);
+  } else {
+    q.ray.dir = random_unit(rng) * log_uniform(rng, 0.1f, 10.0f);
+  }
+  // Zero components, both signs: the slab test meets +-inf and 0 * inf.
+  const int zeros = std::uniform_int_distribution<int>(0, 3)(rng) == 0 ? std::uniform_int_distribution<int>(1, 2)(rng) : 0;
+  for (int z = 0; z < zeros; ++z) {
+    const int axis = std::uniform_int_distribution<int>(0, 2)(rng);
+    q.ray.dir[axis] = (rng() & 1) ? 0.0f : -0.0f;
+  }
+  if (dot(q.ray.dir, q.ray.dir) == 0) q.ray.dir = {0, 0, 1};
+  // Occasionally place the origin exactly on a box plane of a sphere, where 0 * inf = NaN appears in the slab test.
+  if (zeros > 0 && !scene.centers.empty() && (rng() & 3) == 0) {
+    const auto i = std::uniform_int_distribution<std::size_t>(0, scene.centers.size() - 1)(rng);
+    for (int a = 0; a < 3; ++a) {
+      if (q.ray.dir[a] == 0) q.ray.origin[a] = scene.centers[i][a] + scene.radii[i];
+    }
+  }
+  q.t_min = (rng() & 1) ? 0.0f : 1e-3f;
+  q.t_max = (rng() & 3) == 0 ? log_uniform(rng, 0.1f, 4 * extent) : kInf;
+  return q;
+}
+
+// Expects the BVH to return what brute force returns; returns the number of hits. The exception, rare and checked,
+// is a tie: spheres whose t are equal, or equal up to rounding (overlapping spheres seen from very far away), which
+// box culling cannot order (bvh.cpp). The BVH's sphere must then give a t no smaller than brute force's and within
+// rounding of it.
+int expect_matches_brute_force(const Scene& scene, const Bvh& bvh, const std::vector<Query>& queries) {
+  int hits = 0, ties = 0;
+  for (const Query& q : queries) {
+    SphereHit want, got;
+    const bool want_hit = intersect_brute_force(scene.centers, scene.radii, q.ray, q.t_min, q.t_max, want);
+    const bool got_hit = bvh.intersect(q.ray, q.t_min, q.t_max, got);
+    EXPECT_EQ(got_hit, want_hit) << "origin " << q.ray.origin.x << "," << q.ray.origin.y << "," << q.ray.origin.z
+                                 << " dir " << q.ray.dir.x << "," << q.ray.dir.y << "," << q.ray.dir.z;
+    if (!got_hit || !want_hit) continue;
+    ++hits;
+    if (got.sphere == want.sphere) {
+      EXPECT_EQ(got.t, want.t);
+      continue;
+    }
+    ++ties;
+    const Vec3d to_center = to_double(scene.centers[want.sphere]) - to_double(q.ray.origin);
+    const double rounding = 1e-5 * want.t + 16 * kFloatEps * (length(to_center) + scene.radii[want.sphere]) /
+                                                length(to_double(q.ray.dir));
+    EXPECT_GE(got.t, want.t);
+    EXPECT_LE(got.t - want.t, rounding) << "sphere " << got.sphere << " instead of " << want.sphere;
+    float t = 0;
+    EXPECT_TRUE(intersect_sphere(q.ray, scene.centers[got.sphere], scene.radii[got.sphere], q.t_min, q.t_max, t));
+    EXPECT_EQ(t, got.t);
+  }
+  EXPECT_LE(ties, hits / 100 + 2);
+  return hits;
+}
+
+Scene random_scene(std::mt19937& rng, std::size_t n, float extent) {
+  Scene s;
+  const int layout = std::uniform_int_distribution<int>(0, 3)(rng);
+  std::vector<Vec3f> clusters;
+  for (int i = 0; i < 8; ++i) clusters.push_back(uniform_in_box(rng, -extent, extent));
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3f c;
+    switch (layout) {
+      case 0:  // uniform
+        c = uniform_in_box(rng, -extent, extent);
+        break;
+      case 1:  // clustered
+        c = clusters[i % clusters.size()] + random_unit(rng) * (extent * 0.05f * uniform(rng, 0, 1));
+        break;
+      case 2:  // flat layer on a ground, as in the cover scenes
+        c = {uniform(rng, -extent, extent), uniform(rng, 0, 0.5f), uniform(rng, -extent, extent)};
+        break;
+      default:  // on a line
+        c = {uniform(rng, -extent, extent), 0, 0};
+        break;
+    }
+    s.centers.push_back(c);
+    s.radii.push_back(log_uniform(rng, 1e-3f * extent, 0.2f * extent));
+  }
+  if (n > 1 && (rng() & 1)) {  // a huge ground sphere replaces one of them
+    s.centers[0] = {0, -1000 * extent, 0};
+    s.radii[0] = 1000 * extent;
+  }
+  return s;
+}
+
+TEST(Bvh, MatchesBruteForceOnRandomScenes) {
+  std::mt19937 rng(6);
+  int hits = 0, queries_total = 0;
+  for (int scene_index = 0; scene_index < 50; ++scene_index) {
+    const std::size_t n = scene_index < 8 ? static_cast<std::size_t>(scene_index + 1)
+                                          : std::uniform_int_distribution<std::size_t>(1, 2000)(rng);
+    const float extent = log_uniform(rng, 1.0f, 1000.0f);
+    const Scene scene = random_scene(rng, n, extent);
+    const Bvh bvh = Bvh::build(scene.centers, scene.radii);
+    EXPECT_EQ(bvh.sphere_count(), n);
+    std::vector<Query> queries;
+    for (int i = 0; i < 2000; ++i) queries.push_back(random_query(rng, scene, extent));
+    hits += expect_matches_brute_force(scene, bvh, queries);
+    queries_total += static_cast<int>(queries.size());
+  }
+  EXPECT_GT(hits, queries_total / 4);  // the comparison is not vacuous
+}
+
+TEST(Bvh, EmptyNeverHits) {
+  const Bvh bvh = Bvh::build({}, {});
+  EXPECT_EQ(bvh.sphere_count(), 0u);
+  EXPECT_EQ(bvh.node_count(), 0u);
+  std::mt19937 rng(7);
+  for (int i = 0; i < 100; ++i) {
+    SphereHit hit;
+    EXPECT_FALSE(bvh.intersect({uniform_in_box(rng, -1, 1), random_unit(rng)}, -kInf, kInf, hit));
+  }
+}
+
+TEST(Bvh, SingleSphere) {
+  const std::vector<Vec3f> centers{{1, 2, 3}};
+  const std::vector<float> radii{0.5f};
+  const Bvh bvh = Bvh::build(centers, radii);
+  EXPECT_EQ(bvh.sphere_count(), 1u);
+  SphereHit hit;
+  ASSERT_TRUE(bvh.intersect({{1, 2, 0}, {0, 0, 1}}, 0, kInf, hit));
+  EXPECT_EQ(hit.sphere, 0u);
+  EXPECT_FLOAT_EQ(hit.t, 2.5f);
+  EXPECT_FALSE(bvh.intersect({{1, 2, 0}, {0, 0, -1}}, 0, kInf, hit));
+  EXPECT_FALSE(bvh.intersect({{1, 2, 0}, {0, 0, 1}}, 0, 2.5f, hit));
+}
+
+TEST(Bvh, AllSpheresAtOneCentre) {
+  std::mt19937 rng(8);
+  Scene scene;
+  for (int i = 0; i < 1000; ++i) {
+    scene.centers.push_back({3, -2, 7});
+    scene.radii.push_back(log_uniform(rng, 0.01f, 10.0f));
+  }
+  // Exact duplicates too: equal t everywhere, so only the index tie-break decides.
+  for (int i = 0; i < 20; ++i) {
+    scene.centers.push_back({3, -2, 7});
+    scene.radii.push_back(1.0f);
+  }
+  const Bvh bvh = Bvh::build(scene.centers, scene.radii);
+  std::vector<Query> queries;
+  for (int i = 0; i < 2000; ++i) queries.push_back(random_query(rng, scene, 10));
+  EXPECT_GT(expect_matches_brute_force(scene, bvh, queries), 100);
+}
+
+TEST(Bvh, ExactDuplicatesResolveToTheLowestIndex) {
+  const std::vector<Vec3f> centers(100, Vec3f{0, 0, 5});
+  const std::vector<float> radii(100, 1.0f);
+  const Bvh bvh = Bvh::build(centers, radii);
+  SphereHit hit;
+  ASSERT_TRUE(bvh.intersect({{0, 0, 0}, {0, 0, 1}}, 0, kInf, hit));
+  EXPECT_EQ(hit.sphere, 0u);
+  EXPECT_FLOAT_EQ(hit.t, 4.0f);
+}
+
+TEST(Bvh, ExtremeCoordinatesAndSkewedDistributions) {
+  std::mt19937 rng(9);
+  Scene scene;
+  // Coordinates up to 1e6 with radii from 1e-2 to 1e4, and an exponential spread along x that would make a pure
+  // SAH build deep (the build falls back to median splits past a depth limit).
+  for (int i = 0; i < 1500; ++i) {
+    scene.centers.push_back(uniform_in_box(rng, -1e6f, 1e6f));
+    scene.radii.push_back(log_uniform(rng, 1e-2f, 1e4f));
+  }
+  for (int i = 0; i < 1500; ++i) {
+    scene.centers.push_back({std::pow(1.01f, static_cast<float>(i)) - 1.0f, 0, 0});
+    scene.radii.push_back(0.25f);
+  }
+  const Bvh bvh = Bvh::build(scene.centers, scene.radii);
+  std::vector<Query> queries;
+  for (int i = 0; i < 3000; ++i) queries.push_back(random_query(rng, scene, i % 2 ? 1e6f : 3e6f));
+  // Rays along the x axis through the chain.
+  for (int i = 0; i < 200; ++i) {
+    queries.push_back({{{-10, uniform(rng, -0.2f, 0.2f), uniform(rng, -0.2f, 0.2f)}, {1, 0, 0}}, 0, kInf});
+  }
+  EXPECT_GT(expect_matches_brute_force(scene, bvh, queries), 200);
+}
+
+TEST(Bvh, MillionSpheres) {
+  // A million under 10 s in Release; fewer under the address sanitizer.
+  const std::size_t n = kSanitized ? 200'000 : 1'000'000;
+  std::mt19937 rng(10);
+  Scene scene;
+  scene.centers.reserve(n);
+  scene.radii.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    scene.centers.push_back(uniform_in_box(rng, -100, 100));
+    scene.radii.push_back(log_uniform(rng, 0.01f, 0.5f));
+  }
+  const Bvh bvh = Bvh::build(scene.centers, scene.radii);
+  EXPECT_EQ(bvh.sphere_count(), n);
+  EXPECT_GT(bvh.node_count(), n / 8);
+  EXPECT_LT(bvh.node_count(), n);
+  EXPECT_LT(bvh.memory_bytes(), n * 100);  // 100 MB for a million
+  std::vector<Query> queries;
+  for (int i = 0; i < 300; ++i) queries.push_back(random_query(rng, scene, 100));
+  EXPECT_GT(expect_matches_brute_force(scene, bvh, queries), 30);
+}
+
+}  // namespace
+}  // namespace tripsitter::render

@@ -1,0 +1,29 @@
+// The float renderer's thin-lens camera (SPEC.md section C).
+#pragma once
+
+#include <tripsitter/render/ray.h>
+#include <tripsitter/render/rng.h>
+#include <tripsitter/scene/scene.h>
+
+namespace tripsitter::render {
+
+class ThinLensCamera {
+ public:
+  // REQUIRES settings valid as the scene loader checks them (lookfrom != lookat, vup not parallel),
+  // width, height >= 1.
+  ThinLensCamera(const scene::CameraSettings& settings, int width, int height);
+
+  // A ray through a uniformly jittered point of pixel (col, row), row 0 at the top, starting on the lens.
+  Ray ray(int col, int row, Rng& rng) const;
+  // The ray through the pixel's centre from the lens centre (no jitter, no defocus).
+  Ray centre_ray(int col, int row) const;
+
+ private:
+  Vec3f origin_;
+  Vec3f pixel00_;          // centre of the top-left pixel on the focus plane
+  Vec3f pixel_du_, pixel_dv_;  // one pixel right, one pixel down
+  Vec3f lens_u_, lens_v_;      // the defocus disk's radius vectors
+  bool defocus_ = false;
+};
+
+}  // namespace tripsitter::render

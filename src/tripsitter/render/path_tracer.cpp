@@ -1,0 +1,106 @@
+#include <tripsitter/render/path_tracer.h>
+
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+namespace tripsitter::render {
+namespace {
+
+Vec3f to_f(const core::Vec3d& v) { return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)}; }
+
+Vec3f hadamard(const Vec3f& a, const Vec3f& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+
+std::vector<Vec3f> centers_of(std::span<const scene::Sphere> spheres) {
+  std::vector<Vec3f> c;
+  c.reserve(spheres.size());
+  for (const auto& s : spheres) c.push_back(to_f(s.center));
+  return c;
+}
+
+std::vector<float> radii_of(std::span<const scene::Sphere> spheres) {
+  std::vector<float> r;
+  r.reserve(spheres.size());
+  for (const auto& s : spheres) r.push_back(static_cast<float>(s.radius));
+  return r;
+}
+
+}  // namespace
+
+PathScene::PathScene(std::span<const scene::Sphere> spheres)
+    : centers_(centers_of(spheres)), radii_(radii_of(spheres)), bvh_(Bvh::build(centers_, radii_)) {
+  materials_.reserve(spheres.size());
+  for (const auto& s : spheres)
+    materials_.push_back({s.material.type, to_f(s.material.albedo), static_cast<float>(s.material.fuzz),
+                          static_cast<float>(s.material.ior)});
+}
+
+SurfacePoint PathScene::surface(const Ray& ray, const SphereHit& hit) const {
+  SurfacePoint s;
+  s.p = ray.at(hit.t);
+  const Vec3f outward = (s.p - centers_[hit.sphere]) / radii_[hit.sphere];
+  s.front_face = core::dot(ray.dir, outward) < 0;
+  s.normal = s.front_face ? outward : -outward;
+  return s;
+}
+
+Vec3f trace_path(const PathScene& scene, Ray ray, int max_depth, const Sky& sky, Rng& rng) {
+  Vec3f throughput{1, 1, 1};
+  for (int depth = 0; depth < max_depth; ++depth) {
+    SphereHit hit;
+    if (!scene.intersect(ray, kRayEpsilon, INFINITY, hit)) return hadamard(throughput, sky.radiance(ray.dir));
+    const SurfacePoint s = scene.surface(ray, hit);
+    const Scatter sc = scatter(scene.material(hit.sphere), ray.dir, s, rng);
+    if (!sc.scattered) return {0, 0, 0};
+    throughput = hadamard(throughput, sc.attenuation);
+    // Unit directions keep kRayEpsilon a distance in world units, whatever length the scatter produced.
+    ray = {s.p, core::normalize(sc.dir)};
+  }
+  return {0, 0, 0};
+}
+
+ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
+                      const std::function<void(std::uint64_t)>& on_samples) {
+  ImageRgbF image{settings.width, settings.height,
+                  std::vector<Vec3f>(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height))};
+  const float inv_spp = 1.0f / static_cast<float>(settings.spp);
+  const auto rows = [&](const tbb::blocked_range<int>& range) {
+    for (int row = range.begin(); row != range.end(); ++row) {
+      for (int col = 0; col < settings.width; ++col) {
+        const std::uint64_t index = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(settings.width) +
+                                    static_cast<std::uint64_t>(col);
+        Rng rng = Rng::for_item(settings.seed, index);
+        Vec3f sum{0, 0, 0};
+        for (int s = 0; s < settings.spp; ++s)
+          sum += trace_path(scene, camera.ray(col, row, rng), settings.max_depth, settings.sky, rng);
+        image.pixels[index] = sum * inv_spp;
+      }
+      if (on_samples) on_samples(static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp));
+    }
+  };
+  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  arena.execute([&] { tbb::parallel_for(tbb::blocked_range<int>(0, settings.height, 1), rows); });
+  return image;
+}
+
+std::uint8_t srgb_encode(float linear) {
+  const float v = std::fmin(std::fmax(linear, 0.0f), 1.0f);
+  const float e = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+  return static_cast<std::uint8_t>(std::lround(e * 255.0f));
+}
+
+core::ImageRgb8 to_srgb8(const ImageRgbF& image) {
+  core::ImageRgb8 out(image.width, image.height);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    const Vec3f& p = image.pixels[i];
+    out.pixels[3 * i + 0] = srgb_encode(p.x);
+    out.pixels[3 * i + 1] = srgb_encode(p.y);
+    out.pixels[3 * i + 2] = srgb_encode(p.z);
+  }
+  return out;
+}
+
+}  // namespace tripsitter::render

@@ -1,0 +1,80 @@
+// The float path tracer (--mode path): materials, bounces, samples per pixel, thin-lens camera
+// (SPEC.md section C). Deterministic: the same seed gives the same image whatever the thread count,
+// because every pixel draws from its own random stream and sums its samples in a fixed order.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include <tripsitter/core/image.h>
+#include <tripsitter/render/bvh.h>
+#include <tripsitter/render/camera.h>
+#include <tripsitter/render/material.h>
+#include <tripsitter/scene/scene.h>
+
+namespace tripsitter::render {
+
+// Rays that leave the scene: white at the bottom to `top` at the top, blended by 0.5 (y + 1) of the
+// unit direction. A uniform sky has bottom == top.
+struct Sky {
+  Vec3f bottom{1.0f, 1.0f, 1.0f};
+  Vec3f top{0.5f, 0.7f, 1.0f};
+  Vec3f radiance(const Vec3f& dir) const {
+    const float a = 0.5f * (core::normalize(dir).y + 1.0f);
+    return bottom * (1.0f - a) + top * a;
+  }
+};
+
+// Spheres ready to trace: float arrays, materials and a BVH over them.
+class PathScene {
+ public:
+  explicit PathScene(std::span<const scene::Sphere> spheres);
+  std::size_t size() const { return radii_.size(); }
+  const Bvh& bvh() const { return bvh_; }
+  bool intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const { return bvh_.intersect(ray, t_min, t_max, hit); }
+  // The surface point of a hit, its normal facing the ray.
+  SurfacePoint surface(const Ray& ray, const SphereHit& hit) const;
+  const PathMaterial& material(std::uint32_t sphere) const { return materials_[sphere]; }
+
+ private:
+  std::vector<Vec3f> centers_;
+  std::vector<float> radii_;
+  std::vector<PathMaterial> materials_;
+  Bvh bvh_;
+};
+
+struct PathSettings {
+  int width = 640;
+  int height = 480;
+  int spp = 1;
+  int max_depth = 50;     // rays followed per path; a path still bouncing after that contributes black
+  std::uint64_t seed = 1;
+  int threads = 0;        // 0: all hardware threads
+  Sky sky;
+};
+
+// Linear radiance per pixel, the mean of its samples.
+struct ImageRgbF {
+  int width = 0;
+  int height = 0;
+  std::vector<Vec3f> pixels;
+};
+
+// Nearest hit distance a ray accepts, so that a bounced ray does not hit the surface it leaves (world
+// units: bounced rays have unit directions).
+inline constexpr float kRayEpsilon = 1e-3f;
+
+// Radiance along one ray.
+Vec3f trace_path(const PathScene& scene, Ray ray, int max_depth, const Sky& sky, Rng& rng);
+
+// Renders the image. `on_samples(n)` is called, from worker threads, as rows of n samples complete.
+ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
+                      const std::function<void(std::uint64_t)>& on_samples = {});
+
+// The IEC 61966-2-1 sRGB transfer function of a linear value clamped to [0, 1], to 8 bits.
+std::uint8_t srgb_encode(float linear);
+core::ImageRgb8 to_srgb8(const ImageRgbF& image);
+
+}  // namespace tripsitter::render
