@@ -53,7 +53,8 @@ int run_bench(const BenchOptions& o) {
   for (int n : {1, 16, 64}) {
     host::Host h(scene::random_spheres(n, 1), board::formats_of(device::wide_preset()), link::WireVersion::kV2);
     const auto& world = h.update();
-    const double fps = median_fps(o, [&] { render::render_normal(world.view_spheres, 640, 480); });
+    const int bounces = device::wide_preset().max_bounces;
+    const double fps = median_fps(o, [&] { render::render_normal(world.view_spheres, 640, 480, bounces); });
     std::printf("%-28s %12.2f\n", ("normal_fps_" + std::to_string(n)).c_str(), fps);
   }
   return kExitOk;

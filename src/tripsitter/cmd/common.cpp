@@ -20,10 +20,11 @@ scene::Scene load_scene(const std::string& name_or_path) {
   return std::move(result).value();
 }
 
-device::DevicePreset load_preset(const std::string& name, int workers) {
+device::DevicePreset load_preset(const std::string& name, int workers, int bounces) {
   auto preset = device::preset_by_name(name);
   if (!preset) throw InputError("unknown preset '" + name + "' (known: " + join(device::preset_names()) + ")");
   if (workers != 0) preset->workers = workers;
+  if (bounces >= 0) preset->max_bounces = bounces;
   if (auto why = preset->validate()) throw InputError("preset " + name + ": " + *why);
   return *preset;
 }

@@ -24,8 +24,8 @@ struct InputError : std::runtime_error {
 // A built-in scene name or a scene file; throws InputError with file:line:column on failure.
 scene::Scene load_scene(const std::string& name_or_path);
 
-// The named preset with the overrides given on the command line (0 means not given).
-device::DevicePreset load_preset(const std::string& name, int workers);
+// The named preset with the overrides given on the command line (workers 0 and bounces -1: not given).
+device::DevicePreset load_preset(const std::string& name, int workers, int bounces = -1);
 
 link::WireVersion parse_wire(const std::string& name);
 

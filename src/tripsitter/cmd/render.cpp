@@ -1,4 +1,5 @@
 // tripsitter render: one frame as the monitor shows it.
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -9,7 +10,9 @@
 #include <tripsitter/board/board.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/display/vcd.h>
+#include <tripsitter/core/progress.h>
 #include <tripsitter/render/normal.h>
+#include <tripsitter/render/path_tracer.h>
 #include <tripsitter/scene/builtin.h>
 
 #include "commands.h"
@@ -23,6 +26,7 @@ struct RenderOptions {
   std::string mode = "hw";
   std::string preset = "wide";
   int workers = 0;
+  int bounces = -1;
   std::string wire = "v2";
   int width = 0;   // 0: 640 in hw mode, the scene's render.width in normal mode
   int height = 0;
@@ -33,6 +37,12 @@ struct RenderOptions {
   std::size_t transfer_bytes = link::SpiConfig{}.max_transfer_bytes;
   std::int64_t spi_hz = link::SpiConfig{}.clock_hz;
   bool compare = false;
+  // path mode; 0 means the scene's render settings
+  int spp = 0;
+  int depth = 0;
+  std::uint64_t seed = 1;
+  int threads = 0;
+  bool quiet = false;
 };
 
 // Fails before any work is done when a file could not be written there.
@@ -42,7 +52,8 @@ void check_output_path(const std::string& path) {
     throw InputError(path + ": directory " + parent.string() + " does not exist");
 }
 
-void write_image(const std::string& path, const core::Image444& image) {
+template <class Image>
+void write_image(const std::string& path, const Image& image) {
   auto written = display::write_png(path, image);
   if (!written) throw InputError(written.error().message);
   std::cerr << "wrote " << path << " (" << image.width << "x" << image.height << ")\n";
@@ -94,14 +105,46 @@ void report(const board::ShownFrame& f) {
   if (f.spheres_dropped > 0) std::cerr << "host: " << f.spheres_dropped << " spheres beyond scene memory were not sent\n";
 }
 
+int run_path(const RenderOptions& o, const scene::Scene& scene) {
+  render::PathSettings s;
+  s.width = o.width != 0 ? o.width : scene.render.width;
+  s.height = o.height != 0 ? o.height : scene.render.height;
+  s.spp = o.spp != 0 ? o.spp : scene.render.spp;
+  s.max_depth = o.depth != 0 ? o.depth : scene.render.max_depth;
+  s.seed = o.seed;
+  s.threads = o.threads;
+  const auto t0 = std::chrono::steady_clock::now();
+  const render::PathScene path_scene(scene.spheres);
+  const auto t1 = std::chrono::steady_clock::now();
+  const render::ThinLensCamera camera(scene.camera, s.width, s.height);
+  const std::uint64_t total = static_cast<std::uint64_t>(s.width) * static_cast<std::uint64_t>(s.height) *
+                              static_cast<std::uint64_t>(s.spp);
+  render::ImageRgbF image;
+  {
+    core::ProgressBar bar("path", total, "samples", !o.quiet, std::cerr);
+    image = render::render_path(path_scene, camera, s, [&](std::uint64_t n) { bar.add(n); });
+  }
+  const auto t2 = std::chrono::steady_clock::now();
+  const double build = std::chrono::duration<double>(t1 - t0).count();
+  const double trace = std::chrono::duration<double>(t2 - t1).count();
+  if (!o.quiet)
+    std::fprintf(stderr, "path: %zu spheres, BVH built in %.3f s; %dx%d at %d spp in %.2f s (%.2f Msamples/s)\n",
+                 path_scene.size(), build, s.width, s.height, s.spp, trace, static_cast<double>(total) / trace / 1e6);
+  write_image(o.out, render::to_srgb8(image));
+  return kExitOk;
+}
+
 int run_render(const RenderOptions& o) {
-  if (o.mode != "hw" && o.mode != "normal") throw InputError("--mode must be hw or normal, not '" + o.mode + "'");
+  if (o.mode != "hw" && o.mode != "normal" && o.mode != "path")
+    throw InputError("--mode must be hw, normal or path, not '" + o.mode + "'");
+  if (o.mode != "path" && (o.spp != 0 || o.depth != 0))
+    throw InputError("--spp and --depth need --mode path (hw and normal trace one ray per pixel)");
   const link::WireVersion wire = parse_wire(o.wire);
-  const device::DevicePreset preset = load_preset(o.preset, o.workers);
+  const device::DevicePreset preset = load_preset(o.preset, o.workers, o.bounces);
   if (o.mode == "hw" && ((o.width != 0 && o.width != 640) || (o.height != 0 && o.height != 480)))
-    throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal");
-  if (o.mode == "normal" && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float reference has no VGA signal)");
-  if (o.mode == "normal" && !o.link_input.empty()) throw InputError("--link-input needs --mode hw");
+    throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal or path");
+  if (o.mode != "hw" && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float renderers have no VGA signal)");
+  if (o.mode != "hw" && !o.link_input.empty()) throw InputError("--link-input needs --mode hw");
   if (o.compare && (o.mode != "hw" || !o.link_input.empty()))
     throw InputError("--compare needs --mode hw with a scene (it renders the same world in float)");
   check_output_path(o.out);
@@ -139,12 +182,13 @@ int run_render(const RenderOptions& o) {
   }
 
   scene::Scene scene = load_scene(o.scene);
+  if (o.mode == "path") return run_path(o, scene);
   if (o.mode == "normal") {
     host::Host host(scene, board::formats_of(preset), wire);
     const auto& world = host.update();
     const int width = o.width != 0 ? o.width : scene.render.width;
     const int height = o.height != 0 ? o.height : scene.render.height;
-    write_image(o.out, render::render_normal(world.view_spheres, width, height));
+    write_image(o.out, render::render_normal(world.view_spheres, width, height, preset.max_bounces));
     return kExitOk;
   }
   VcdCapture vcd(o.vcd, o.lines);
@@ -152,7 +196,8 @@ int run_render(const RenderOptions& o) {
   const board::ShownFrame shown = b.show(vcd.probe());
   report(shown);
   if (o.compare) {
-    const core::ImageDiff d = core::diff(shown.image, render::render_normal(b.host().ready().view_spheres, 640, 480));
+    const core::ImageDiff d =
+        core::diff(shown.image, render::render_normal(b.host().ready().view_spheres, 640, 480, preset.max_bounces));
     std::printf("vs float reference: %zu of %zu pixels differ (%.3f%%), %zu by more than one level, at most %d levels\n",
                 d.differing, d.pixels, 100.0 * static_cast<double>(d.differing) / static_cast<double>(d.pixels),
                 d.over_one_level, d.max_level_difference);
@@ -167,20 +212,26 @@ int run_render(const RenderOptions& o) {
 void add_render_command(CLI::App& app, Action& run) {
   auto o = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render one frame as the board's monitor shows it, to a PNG file");
-  cmd->add_option("--scene", o->scene, "Built-in scene name (" + join(scene::builtin_names()) + ") or JSON scene file")
+  cmd->add_option("--scene", o->scene,
+                  "Built-in scene name (" + join(scene::builtin_names()) + ", random-N) or JSON scene file")
       ->capture_default_str();
   cmd->add_option("--mode", o->mode,
                   "hw: host -> link -> device -> VGA capture, bit-exact fixed point (640x480 only);\n"
-                  "normal: the float reference of the same rays and shading (any --width/--height)")
+                  "normal: the float reference of the same rays and shading, mirrors included (any size);\n"
+                  "path: the float path tracer with materials, bounces, samples and the scene's thin-lens camera,\n"
+                  "      written sRGB-encoded")
       ->capture_default_str();
   cmd->add_option("--preset", o->preset, "Device preset (" + join(device::preset_names()) + ")")->capture_default_str();
   cmd->add_option("--workers", o->workers, "Number of device workers, 1..640 (default: the preset's)")
       ->check(CLI::Range(1, 640));
+  cmd->add_option("--bounces", o->bounces,
+                  "Device mirror bounces off metal spheres, 0..6 (default: the preset's); also used by --mode normal")
+      ->check(CLI::Range(0, 6));
   cmd->add_option("--wire", o->wire, "Link protocol: v1 (the board's sphere word; the device shows the last sphere) or v2")
       ->capture_default_str();
-  cmd->add_option("--width", o->width, "Image width, --mode normal only (default: the scene's render.width; hw is 640)")
+  cmd->add_option("--width", o->width, "Image width, normal and path modes (default: the scene's render.width; hw is 640)")
       ->check(CLI::Range(1, scene::kMaxImageSide));
-  cmd->add_option("--height", o->height, "Image height, --mode normal only (default: the scene's render.height; hw is 480)")
+  cmd->add_option("--height", o->height, "Image height, normal and path modes (default: the scene's render.height; hw is 480)")
       ->check(CLI::Range(1, scene::kMaxImageSide));
   cmd->add_option("--out", o->out, "Output PNG file")->capture_default_str();
   cmd->add_option("--vcd", o->vcd, "Also dump the VGA signal (hsync, vsync, r, g, b) as a VCD file (hw only)");
@@ -194,6 +245,14 @@ void add_render_command(CLI::App& app, Action& run) {
       ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
   cmd->add_option("--spi-hz", o->spi_hz, "SPI clock in Hz, for the link time report")
       ->capture_default_str()->check(CLI::Range(std::int64_t{1}, std::int64_t{1'000'000'000'000}));
+  cmd->add_option("--spp", o->spp, "path only: samples per pixel (default: the scene's render.spp)")
+      ->check(CLI::Range(1, scene::kMaxSpp));
+  cmd->add_option("--depth", o->depth, "path only: most bounces along one path (default: the scene's render.max_depth)")
+      ->check(CLI::Range(1, scene::kMaxDepth));
+  cmd->add_option("--seed", o->seed, "path only: random seed; the same seed gives the same image on any thread count")
+      ->capture_default_str();
+  cmd->add_option("--threads", o->threads, "path only: worker threads (default: all)")->check(CLI::Range(1, 1024));
+  cmd->add_flag("--quiet", o->quiet, "No progress bar or summary on stderr");
   cmd->add_flag("--compare", o->compare,
                "hw only: also render the same view-space world with the float reference and print how the two differ");
   cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
