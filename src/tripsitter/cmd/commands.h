@@ -12,5 +12,8 @@ using Action = std::function<int()>;
 void add_render_command(CLI::App& app, Action& run);
 void add_link_command(CLI::App& app, Action& run);
 void add_bench_command(CLI::App& app, Action& run);
+void add_host_command(CLI::App& app, Action& run);
+void add_device_command(CLI::App& app, Action& run);
+void add_run_command(CLI::App& app, Action& run);
 
 }  // namespace tripsitter::cmd

@@ -17,8 +17,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   Action run;
   add_render_command(app, run);
+  add_run_command(app, run);
   add_link_command(app, run);
   add_bench_command(app, run);
+  add_host_command(app, run);
+  add_device_command(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -1,0 +1,71 @@
+// tripsitter run: the board in a window, driven by the keyboard.
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include <tripsitter/frontend/run.h>
+
+#include "commands.h"
+#include "common.h"
+
+namespace tripsitter::cmd {
+namespace {
+
+struct RunCommandOptions {
+  std::string scene = "demo";
+  std::string mode = "hw";
+  std::string preset = "wide";
+  int workers = 0;
+  std::string wire = "v2";
+  int scale = 1;
+  std::string screenshot_dir = ".";
+  std::uint64_t seed = 1;
+  int threads = 0;
+  std::uint64_t frames = 0;
+};
+
+int run_run(const RunCommandOptions& o) {
+  frontend::AppConfig c;
+  if (o.mode == "hw") c.mode = frontend::Mode::kHw;
+  else if (o.mode == "normal") c.mode = frontend::Mode::kNormal;
+  else if (o.mode == "path") c.mode = frontend::Mode::kPath;
+  else throw InputError("--mode must be hw, normal or path, not '" + o.mode + "'");
+  c.wire = parse_wire(o.wire);
+  c.preset = load_preset(o.preset, o.workers);
+  c.scene = load_scene(o.scene);
+  c.screenshot_dir = o.screenshot_dir;
+  c.seed = o.seed;
+  c.threads = o.threads;
+  const frontend::LatencyStats latency = frontend::run_window(std::move(c), {o.scale, o.frames});
+  if (latency.samples > 0)
+    std::fprintf(stderr, "key-to-photon latency: mean %.1f ms, max %.1f ms over %d key presses\n", latency.mean_ms,
+                 latency.max_ms, latency.samples);
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, Action& run) {
+  auto o = std::make_shared<RunCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "run",
+      "Open a window that shows the board's VGA monitor live; the keyboard drives the host's camera.\n"
+      "Keys: W/S forward/back, A/D left/right, I/K look up/down, J/L look left/right, Q/E orbit the target,\n"
+      "R reset, Tab figures, H help, F12 screenshot (PNG in --screenshot-dir), Esc or closing the window quits.");
+  cmd->add_option("--scene", o->scene, "Built-in scene name or JSON scene file")->capture_default_str();
+  cmd->add_option("--mode", o->mode,
+                  "hw: every camera change goes host -> link -> device -> VGA capture; normal: the float reference;\n"
+                  "path: the path tracer, refining while the camera is still")
+      ->capture_default_str();
+  cmd->add_option("--preset", o->preset, "Device preset (hw)")->capture_default_str();
+  cmd->add_option("--workers", o->workers, "Number of device workers (default: the preset's)")->check(CLI::Range(1, 640));
+  cmd->add_option("--wire", o->wire, "Link protocol, v1 or v2")->capture_default_str();
+  cmd->add_option("--scale", o->scale, "Window size as a multiple of 640x480")->capture_default_str()->check(CLI::Range(1, 8));
+  cmd->add_option("--screenshot-dir", o->screenshot_dir, "Where F12 writes tripsitter-N.png")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "path: random seed")->capture_default_str();
+  cmd->add_option("--threads", o->threads, "path: worker threads (default: all)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--frames", o->frames, "Quit after this many frames (default: run until Esc)");
+  cmd->callback([o, &run] { run = [o] { return run_run(*o); }; });
+}
+
+}  // namespace tripsitter::cmd

@@ -1,0 +1,129 @@
+#include <tripsitter/frontend/app.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include <tripsitter/display/png.h>
+#include <tripsitter/render/normal.h>
+
+namespace tripsitter::frontend {
+namespace {
+
+constexpr int kMaxPathSamples = 1024;  // path mode stops refining a still picture here
+
+double ms_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+core::ImageRgb8 expand(const core::Image444& image) {
+  core::ImageRgb8 out(image.width, image.height);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    out.pixels[3 * i + 0] = core::Rgb444::expand(image.pixels[i].r());
+    out.pixels[3 * i + 1] = core::Rgb444::expand(image.pixels[i].g());
+    out.pixels[3 * i + 2] = core::Rgb444::expand(image.pixels[i].b());
+  }
+  return out;
+}
+
+App::App(AppConfig config)
+    : config_(std::move(config)), board_(config_.scene, {config_.preset, config_.wire, {}}) {
+  if (config_.mode == Mode::kPath) path_scene_ = std::make_unique<render::PathScene>(config_.scene.spheres);
+  info_.spheres = config_.scene.spheres.size();
+  render_frame();
+}
+
+void App::handle(const Input& input) {
+  switch (input.kind) {
+    case Input::Kind::kKeyDown:
+      if (input.key == host::Key::kR) {
+        board_.host().reset();
+        dirty_ = true;
+      } else {
+        held_[static_cast<std::size_t>(input.key)] = true;
+      }
+      break;
+    case Input::Kind::kKeyUp: held_[static_cast<std::size_t>(input.key)] = false; break;
+    case Input::Kind::kScreenshot: screenshot(); break;
+    case Input::Kind::kToggleOverlay: overlay_ = !overlay_; break;
+    case Input::Kind::kToggleHelp: help_ = !help_; break;
+    case Input::Kind::kQuit: quit_ = true; break;
+  }
+}
+
+void App::advance(double dt_s) {
+  for (std::size_t k = 0; k < held_.size(); ++k) {
+    if (!held_[k]) continue;
+    host::apply_held_key(board_.host().camera(), static_cast<host::Key>(k), dt_s, config_.speeds);
+    dirty_ = true;
+  }
+  if (dt_s > 0) info_.fps = info_.fps == 0 ? 1.0 / dt_s : 0.9 * info_.fps + 0.1 / dt_s;
+  if (dirty_ || (config_.mode == Mode::kPath && accumulated_spp_ < kMaxPathSamples)) render_frame();
+}
+
+void App::render_frame() {
+  const auto start = std::chrono::steady_clock::now();
+  switch (config_.mode) {
+    case Mode::kHw: {
+      // Every camera change travels host -> link -> device -> VGA signal -> monitor.
+      const board::ShownFrame shown = board_.show();
+      frame444_ = shown.image;
+      info_.late_lines = shown.device.late_lines;
+      info_.link_bytes = shown.link_bytes;
+      info_.link_ms = shown.link_seconds * 1e3;
+      info_.saturations = shown.saturations.total();
+      frame_ = expand(frame444_);
+      break;
+    }
+    case Mode::kNormal: {
+      const host::ReadyWorld& world = board_.host().update();
+      frame444_ = render::render_normal(world.view_spheres, kWidth, kHeight, config_.preset.max_bounces);
+      info_.saturations = world.saturations.total();
+      frame_ = expand(frame444_);
+      break;
+    }
+    case Mode::kPath: {
+      if (dirty_ || accumulated_spp_ == 0) {
+        accumulated_ = {kWidth, kHeight, std::vector<render::Vec3f>(static_cast<std::size_t>(kWidth) * kHeight)};
+        accumulated_spp_ = 0;
+      }
+      scene::CameraSettings cam = config_.scene.camera;
+      cam.lookfrom = board_.host().camera().position();
+      cam.lookat = board_.host().camera().target();
+      render::PathSettings s{.width = kWidth, .height = kHeight, .spp = 1,
+                             .max_depth = config_.scene.render.max_depth,
+                             .seed = config_.seed + static_cast<std::uint64_t>(accumulated_spp_),
+                             .threads = config_.threads, .sky = {}};
+      const render::ImageRgbF pass = render::render_path(*path_scene_, render::ThinLensCamera(cam, kWidth, kHeight), s);
+      ++accumulated_spp_;
+      render::ImageRgbF mean{kWidth, kHeight, std::vector<render::Vec3f>(pass.pixels.size())};
+      const float inv = 1.0f / static_cast<float>(accumulated_spp_);
+      for (std::size_t i = 0; i < pass.pixels.size(); ++i) {
+        accumulated_.pixels[i] += pass.pixels[i];
+        mean.pixels[i] = accumulated_.pixels[i] * inv;
+      }
+      frame_ = render::to_srgb8(mean);
+      info_.samples = accumulated_spp_;
+      break;
+    }
+  }
+  dirty_ = false;
+  ++serial_;
+  info_.frame_ms = ms_since(start);
+}
+
+void App::screenshot() {
+  namespace fs = std::filesystem;
+  fs::path path;
+  do {
+    path = fs::path(config_.screenshot_dir) / ("tripsitter-" + std::to_string(++screenshots_) + ".png");
+  } while (fs::exists(path));
+  const auto written = config_.mode == Mode::kPath ? display::write_png(path.string(), frame_)
+                                                   : display::write_png(path.string(), frame444_);
+  message_ = written ? "screenshot written to " + path.string() : written.error().message;
+}
+
+std::optional<std::string> App::take_message() { return std::exchange(message_, std::nullopt); }
+
+}  // namespace tripsitter::frontend

@@ -1,0 +1,98 @@
+// The interactive board: what `tripsitter run` shows and how the keyboard drives it, apart from SDL so
+// that tests can drive it with synthetic input. The window (window.h) only turns SDL events into Input
+// and puts frame() on the screen.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <tripsitter/board/board.h>
+#include <tripsitter/core/image.h>
+#include <tripsitter/host/controls.h>
+#include <tripsitter/render/path_tracer.h>
+#include <tripsitter/scene/scene.h>
+
+namespace tripsitter::frontend {
+
+enum class Mode { kHw, kNormal, kPath };
+
+struct AppConfig {
+  scene::Scene scene;
+  Mode mode = Mode::kHw;
+  device::DevicePreset preset = device::wide_preset();
+  link::WireVersion wire = link::WireVersion::kV2;
+  std::string screenshot_dir = ".";
+  std::uint64_t seed = 1;      // path mode
+  int threads = 0;             // path mode, 0: all
+  host::ControlSpeeds speeds;
+};
+
+struct Input {
+  enum class Kind { kKeyDown, kKeyUp, kScreenshot, kToggleOverlay, kToggleHelp, kQuit };
+  Kind kind;
+  host::Key key = host::Key::kW;  // for key events
+};
+
+// Figures for the overlay (Tab).
+struct FrameInfo {
+  double fps = 0;            // frames produced per second, smoothed
+  double frame_ms = 0;       // time to produce the last frame
+  std::size_t spheres = 0;
+  int late_lines = 0;        // hw: lines of the last frame with late pixels
+  std::size_t link_bytes = 0;
+  double link_ms = 0;        // at the SPI clock
+  std::uint64_t saturations = 0;
+  int samples = 0;           // path: samples per pixel accumulated in the frame shown
+};
+
+class App {
+ public:
+  explicit App(AppConfig config);
+
+  void handle(const Input& input);
+  // Moves the camera by `dt_s` seconds of the keys held, and makes the next frame: a new one through the
+  // board when the camera changed (hw, normal), one more sample per pixel while it is still (path).
+  void advance(double dt_s);
+
+  // The frame on screen, 640x480, 8 bits per channel (12-bit frames expanded).
+  const core::ImageRgb8& frame() const { return frame_; }
+  const FrameInfo& info() const { return info_; }
+  bool quit() const { return quit_; }
+  bool overlay() const { return overlay_; }
+  bool help() const { return help_; }
+  // Where the last F12 wrote, or why it could not; cleared by the call.
+  std::optional<std::string> take_message();
+  // Increases every time the frame changes (so the window knows when to upload it).
+  std::uint64_t frame_serial() const { return serial_; }
+
+  static constexpr int kWidth = 640;
+  static constexpr int kHeight = 480;
+
+ private:
+  void render_frame();
+  void screenshot();
+
+  AppConfig config_;
+  board::Board board_;  // hw: the whole path; other modes use its host (camera, world, view transform)
+  std::unique_ptr<render::PathScene> path_scene_;
+  render::ImageRgbF accumulated_;  // path mode: sum of samples
+  int accumulated_spp_ = 0;
+  std::array<bool, 11> held_{};
+  bool dirty_ = true;   // the camera or world changed since the last frame
+  bool quit_ = false, overlay_ = false, help_ = false;
+  core::ImageRgb8 frame_;
+  core::Image444 frame444_;  // hw and normal: the 12-bit frame, for screenshots
+  std::uint64_t serial_ = 0;
+  int screenshots_ = 0;
+  std::optional<std::string> message_;
+  FrameInfo info_;
+};
+
+// 12-bit to 24-bit colour, each channel v * 17.
+core::ImageRgb8 expand(const core::Image444& image);
+
+}  // namespace tripsitter::frontend

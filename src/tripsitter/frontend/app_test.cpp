@@ -1,0 +1,121 @@
+// The interactive board driven by synthetic input, as the window would drive it.
+#include <tripsitter/frontend/app.h>
+
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include <tripsitter/display/png.h>
+#include <tripsitter/scene/builtin.h>
+
+namespace tripsitter::frontend {
+namespace {
+
+namespace fs = std::filesystem;
+
+AppConfig config(Mode mode, const std::string& scene = "demo") {
+  AppConfig c;
+  c.scene = *scene::builtin(scene);
+  c.mode = mode;
+  c.screenshot_dir = fs::temp_directory_path().string();
+  return c;
+}
+
+// Mean column of pixels whose colour differs from the background: where the sphere is on screen.
+double sphere_column(const core::ImageRgb8& img) {
+  double sum = 0;
+  int count = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const std::size_t i = 3 * (static_cast<std::size_t>(y) * img.width + x);
+      if (img.pixels[i] != 0x00 || img.pixels[i + 1] != 0x33 || img.pixels[i + 2] != 0x66) {
+        sum += x;
+        ++count;
+      }
+    }
+  return count ? sum / count : -1;
+}
+
+void hold(App& app, host::Key key, double seconds) {
+  app.handle({Input::Kind::kKeyDown, key});
+  for (int i = 0; i < 10; ++i) app.advance(seconds / 10);
+  app.handle({Input::Kind::kKeyUp, key});
+}
+
+TEST(App, HoldingDMovesTheCameraRightSoTheSphereMovesLeft) {
+  App app(config(Mode::kHw));
+  const double before = sphere_column(app.frame());
+  EXPECT_NEAR(before, 320, 1.0);
+  hold(app, host::Key::kD, 0.25);  // 1 world unit at 4 units/s: 25.6 pixels at the sphere's depth
+  const double after = sphere_column(app.frame());
+  EXPECT_NEAR(after, 320 - 25.6, 2.0);
+}
+
+TEST(App, MovementDependsOnHoldTimeNotOnFrameRate) {
+  App fast(config(Mode::kHw)), slow(config(Mode::kHw));
+  fast.handle({Input::Kind::kKeyDown, host::Key::kA});
+  for (int i = 0; i < 30; ++i) fast.advance(0.01);
+  slow.handle({Input::Kind::kKeyDown, host::Key::kA});
+  for (int i = 0; i < 3; ++i) slow.advance(0.1);
+  EXPECT_EQ(fast.frame(), slow.frame());
+}
+
+TEST(App, NothingHeldNothingRedrawnAndResetRestores) {
+  App app(config(Mode::kHw));
+  const core::ImageRgb8 first = app.frame();
+  const auto serial = app.frame_serial();
+  app.advance(0.1);
+  EXPECT_EQ(app.frame_serial(), serial);
+  hold(app, host::Key::kW, 0.5);
+  EXPECT_NE(app.frame(), first);  // closer: a bigger sphere
+  app.handle({Input::Kind::kKeyDown, host::Key::kR});
+  app.advance(0.01);
+  EXPECT_EQ(app.frame(), first);
+}
+
+TEST(App, F12WritesTheDisplayedFrame) {
+  App app(config(Mode::kHw, "cluster"));
+  hold(app, host::Key::kJ, 0.2);
+  app.handle({Input::Kind::kScreenshot});
+  const auto message = app.take_message();
+  ASSERT_TRUE(message.has_value());
+  const std::string prefix = "screenshot written to ";
+  ASSERT_EQ(message->rfind(prefix, 0), 0u) << *message;
+  const std::string path = message->substr(prefix.size());
+  const auto png = display::read_png(path);
+  ASSERT_TRUE(png.ok());
+  EXPECT_EQ(expand(png.value()), app.frame());
+  fs::remove(path);
+}
+
+TEST(App, OverlayAndHelpToggle) {
+  App app(config(Mode::kNormal));
+  EXPECT_FALSE(app.overlay());
+  app.handle({Input::Kind::kToggleOverlay});
+  EXPECT_TRUE(app.overlay());
+  app.handle({Input::Kind::kToggleHelp});
+  EXPECT_TRUE(app.help());
+  app.handle({Input::Kind::kQuit});
+  EXPECT_TRUE(app.quit());
+}
+
+TEST(App, NormalModeShowsTheFloatReference) {
+  App app(config(Mode::kNormal));
+  EXPECT_NEAR(sphere_column(app.frame()), 320, 1.0);
+  EXPECT_EQ(app.info().spheres, 1u);
+}
+
+TEST(App, PathModeRefinesWhileStillAndRestartsOnMovement) {
+  AppConfig c = config(Mode::kPath, "cluster");
+  c.threads = 2;
+  App app(std::move(c));
+  EXPECT_EQ(app.info().samples, 1);
+  app.advance(0.01);
+  app.advance(0.01);
+  EXPECT_EQ(app.info().samples, 3);
+  hold(app, host::Key::kL, 0.05);
+  EXPECT_EQ(app.info().samples, 1);
+}
+
+}  // namespace
+}  // namespace tripsitter::frontend

@@ -1,0 +1,57 @@
+// The SDL window with SDL's offscreen video driver: no display needed.
+#include <tripsitter/frontend/window.h>
+
+#include <SDL.h>
+
+#include <cstdlib>
+
+#include <gtest/gtest.h>
+
+namespace tripsitter::frontend {
+namespace {
+
+void push_key(SDL_Scancode sc, bool down, bool repeat = false) {
+  SDL_Event e{};
+  e.type = down ? SDL_KEYDOWN : SDL_KEYUP;
+  e.key.keysym.scancode = sc;
+  e.key.repeat = repeat ? 1 : 0;
+  e.key.timestamp = SDL_GetTicks();
+  SDL_PushEvent(&e);
+}
+
+class WindowTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { setenv("SDL_VIDEODRIVER", "offscreen", 1); }
+};
+
+TEST_F(WindowTest, KeysBecomeBoardInput) {
+  Window w("test", 1);
+  push_key(SDL_SCANCODE_W, true);
+  push_key(SDL_SCANCODE_W, true, true);  // auto-repeat: dropped
+  push_key(SDL_SCANCODE_W, false);
+  push_key(SDL_SCANCODE_F12, true);
+  push_key(SDL_SCANCODE_TAB, true);
+  push_key(SDL_SCANCODE_ESCAPE, true);
+  push_key(SDL_SCANCODE_Z, true);        // not a board key: ignored
+  const auto in = w.poll();
+  ASSERT_EQ(in.size(), 5u);
+  EXPECT_EQ(in[0].input.kind, Input::Kind::kKeyDown);
+  EXPECT_EQ(in[0].input.key, host::Key::kW);
+  EXPECT_EQ(in[1].input.kind, Input::Kind::kKeyUp);
+  EXPECT_EQ(in[2].input.kind, Input::Kind::kScreenshot);
+  EXPECT_EQ(in[3].input.kind, Input::Kind::kToggleOverlay);
+  EXPECT_EQ(in[4].input.kind, Input::Kind::kQuit);
+}
+
+TEST_F(WindowTest, PresentsFramesWithAndWithoutOverlay) {
+  Window w("test", 2);
+  core::ImageRgb8 frame(App::kWidth, App::kHeight);
+  w.present(frame, 1, {});
+  w.present(frame, 1, overlay_text(FrameInfo{}, Mode::kHw));
+  w.present(frame, 2, help_text());
+  EXPECT_FALSE(help_text().empty());
+  EXPECT_EQ(overlay_text(FrameInfo{}, Mode::kHw).size(), 5u);
+}
+
+}  // namespace
+}  // namespace tripsitter::frontend
