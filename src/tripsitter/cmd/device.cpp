@@ -48,7 +48,7 @@ class WindowFrameSink : public FrameSink {
       lines.push_back(info.stats.has_world ? "world " + std::to_string(info.stats.sequence) : "no world yet");
       lines.push_back("late lines " + std::to_string(info.stats.late_lines));
     }
-    window_.present(frontend::expand(image), ++serial_, lines);
+    window_.present(core::to_rgb8(image), ++serial_, lines);
     return true;
   }
 

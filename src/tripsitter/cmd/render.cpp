@@ -1,5 +1,7 @@
 // tripsitter render: one frame as the monitor shows it.
+#include <cctype>
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -43,6 +45,10 @@ struct RenderOptions {
   std::uint64_t seed = 1;
   int threads = 0;
   bool quiet = false;
+  // animation
+  int frames = 0;
+  double orbit = 0;
+  std::string video;
 };
 
 // Fails before any work is done when a file could not be written there.
@@ -53,9 +59,14 @@ void check_output_path(const std::string& path) {
 }
 
 template <class Image>
-void write_image(const std::string& path, const Image& image) {
+void write_quietly(const std::string& path, const Image& image) {
   auto written = display::write_png(path, image);
   if (!written) throw InputError(written.error().message);
+}
+
+template <class Image>
+void write_image(const std::string& path, const Image& image) {
+  write_quietly(path, image);
   std::cerr << "wrote " << path << " (" << image.width << "x" << image.height << ")\n";
 }
 
@@ -134,6 +145,119 @@ int run_path(const RenderOptions& o, const scene::Scene& scene) {
   return kExitOk;
 }
 
+// "DIR/frame_%04d.png" with frame 7 is "DIR/frame_0007.png". REQUIRES a pattern accepted by check_pattern.
+std::string frame_path(const std::string& pattern, int frame) {
+  char buf[4096];
+  std::snprintf(buf, sizeof buf, pattern.c_str(), frame);
+  return buf;
+}
+
+// Exactly one integer conversion (%d, %4d, %04d, ...) and no other %, except %%.
+void check_pattern(const std::string& pattern) {
+  int conversions = 0;
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] != '%') continue;
+    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+      ++i;
+      continue;
+    }
+    std::size_t j = i + 1;
+    while (j < pattern.size() && (std::isdigit(static_cast<unsigned char>(pattern[j])) != 0)) ++j;
+    if (j >= pattern.size() || pattern[j] != 'd' || j - i > 4)
+      throw InputError("--out " + pattern + ": with --frames it needs one %d (or %04d) for the frame number");
+    ++conversions;
+    i = j;
+  }
+  if (conversions != 1 || pattern.size() > 2000)
+    throw InputError("--out " + pattern + ": with --frames it needs exactly one %d (or %04d) for the frame number");
+}
+
+// ffmpeg fed raw RGB frames through a pipe; nothing when ffmpeg is not installed.
+class VideoPipe {
+ public:
+  VideoPipe(const std::string& path, int width, int height) {
+    if (path.empty()) return;
+    // The command goes through the shell, with the path in single quotes.
+    if (path.find('\'') != std::string::npos) throw InputError("--video " + path + ": a quote in the file name");
+    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+      std::cerr << "ffmpeg is not installed (Debian: apt-get install ffmpeg): writing the PNG frames only, no " << path
+                << "\n";
+      return;
+    }
+    const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgb24 -s " + std::to_string(width) + "x" +
+                            std::to_string(height) + " -r 30 -i - -pix_fmt yuv420p '" + path + "'";
+    pipe_ = popen(cmd.c_str(), "w");
+    if (pipe_ == nullptr) throw std::runtime_error("cannot start ffmpeg");
+    path_ = path;
+  }
+  ~VideoPipe() {
+    if (pipe_ != nullptr) pclose(pipe_);
+  }
+  void add(const core::ImageRgb8& frame) {
+    if (pipe_ != nullptr) std::fwrite(frame.pixels.data(), 1, frame.pixels.size(), pipe_);
+  }
+  void finish() {
+    if (pipe_ == nullptr) return;
+    const int status = pclose(pipe_);
+    pipe_ = nullptr;
+    if (status != 0) throw std::runtime_error("ffmpeg failed writing " + path_);
+    std::cerr << "wrote " << path_ << "\n";
+  }
+
+ private:
+  FILE* pipe_ = nullptr;
+  std::string path_;
+};
+
+// --frames N --orbit DEG: the camera circles its target by DEG over the N frames (frame i at i * DEG / N,
+// so 360 loops), each frame through the same path as a still.
+int run_animation(const RenderOptions& o, scene::Scene scene, const device::DevicePreset& preset,
+                  link::WireVersion wire) {
+  check_pattern(o.out);
+  check_output_path(frame_path(o.out, 0));
+  if (!o.video.empty()) check_output_path(o.video);
+  const bool path_mode = o.mode == "path";
+  const int width = o.mode == "hw" ? 640 : (o.width != 0 ? o.width : scene.render.width);
+  const int height = o.mode == "hw" ? 480 : (o.height != 0 ? o.height : scene.render.height);
+  std::unique_ptr<render::PathScene> path_scene;
+  if (path_mode) path_scene = std::make_unique<render::PathScene>(scene.spheres);
+  const scene::CameraSettings camera = scene.camera;
+  const int spp = o.spp != 0 ? o.spp : scene.render.spp;
+  const int depth = o.depth != 0 ? o.depth : scene.render.max_depth;
+  board::Board b(std::move(scene), {preset, wire, {o.transfer_bytes, o.spi_hz}});
+  VideoPipe video(o.video, width, height);
+  core::ProgressBar bar("animation", static_cast<std::uint64_t>(o.frames), "frames", !o.quiet, std::cerr);
+  for (int i = 0; i < o.frames; ++i) {
+    if (i > 0) b.host().camera().orbit(o.orbit / o.frames);
+    const std::string file = frame_path(o.out, i);
+    core::ImageRgb8 rgb;
+    if (o.mode == "hw") {
+      const board::ShownFrame shown = b.show();
+      write_quietly(file, shown.image);
+      rgb = core::to_rgb8(shown.image);
+    } else if (o.mode == "normal") {
+      const core::Image444 img = render::render_normal(b.host().update().view_spheres, width, height, preset.max_bounces);
+      write_quietly(file, img);
+      rgb = core::to_rgb8(img);
+    } else {
+      scene::CameraSettings cam = camera;
+      cam.lookfrom = b.host().camera().position();
+      cam.lookat = b.host().camera().target();
+      render::PathSettings s{.width = width, .height = height, .spp = spp, .max_depth = depth, .seed = o.seed,
+                             .threads = o.threads, .sky = {}};
+      rgb = render::to_srgb8(render::render_path(*path_scene, render::ThinLensCamera(cam, width, height), s));
+      write_quietly(file, rgb);
+    }
+    video.add(rgb);
+    bar.add(1);
+  }
+  bar.finish();
+  video.finish();
+  std::cerr << "wrote " << o.frames << " frames, " << frame_path(o.out, 0) << " to " << frame_path(o.out, o.frames - 1)
+            << "\n";
+  return kExitOk;
+}
+
 int run_render(const RenderOptions& o) {
   if (o.mode != "hw" && o.mode != "normal" && o.mode != "path")
     throw InputError("--mode must be hw, normal or path, not '" + o.mode + "'");
@@ -147,7 +271,10 @@ int run_render(const RenderOptions& o) {
   if (o.mode != "hw" && !o.link_input.empty()) throw InputError("--link-input needs --mode hw");
   if (o.compare && (o.mode != "hw" || !o.link_input.empty()))
     throw InputError("--compare needs --mode hw with a scene (it renders the same world in float)");
-  check_output_path(o.out);
+  if (o.frames == 0 && (o.orbit != 0 || !o.video.empty())) throw InputError("--orbit and --video need --frames N");
+  if (o.frames > 0 && (!o.vcd.empty() || !o.link_input.empty() || o.compare))
+    throw InputError("--frames renders an animation: --vcd, --link-input and --compare are for one frame");
+  if (o.frames == 0) check_output_path(o.out);
   if (!o.vcd.empty()) check_output_path(o.vcd);
 
   if (!o.link_input.empty()) {
@@ -182,6 +309,7 @@ int run_render(const RenderOptions& o) {
   }
 
   scene::Scene scene = load_scene(o.scene);
+  if (o.frames > 0) return run_animation(o, std::move(scene), preset, wire);
   if (o.mode == "path") return run_path(o, scene);
   if (o.mode == "normal") {
     host::Host host(scene, board::formats_of(preset), wire);
@@ -253,6 +381,14 @@ void add_render_command(CLI::App& app, Action& run) {
       ->capture_default_str();
   cmd->add_option("--threads", o->threads, "path only: worker threads (default: all)")->check(CLI::Range(1, 1024));
   cmd->add_flag("--quiet", o->quiet, "No progress bar or summary on stderr");
+  cmd->add_option("--frames", o->frames,
+                  "Render an animation of N frames; --out is then a pattern such as DIR/frame_%04d.png")
+      ->check(CLI::Range(1, 1'000'000));
+  cmd->add_option("--orbit", o->orbit, "With --frames: degrees the camera circles its target over the animation")
+      ->check(CLI::Range(-36000.0, 36000.0));
+  cmd->add_option("--video", o->video,
+                  "With --frames: also pipe the frames to ffmpeg as this video file (30 frames/s); without ffmpeg, "
+                  "says so and writes the PNGs only");
   cmd->add_flag("--compare", o->compare,
                "hw only: also render the same view-space world with the float reference and print how the two differ");
   cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });

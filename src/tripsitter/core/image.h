@@ -40,6 +40,17 @@ struct ImageRgb8 {
   bool operator==(const ImageRgb8&) const = default;
 };
 
+// 12-bit to 24-bit colour, each channel v * 17.
+inline ImageRgb8 to_rgb8(const Image444& image) {
+  ImageRgb8 out(image.width, image.height);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    out.pixels[3 * i + 0] = Rgb444::expand(image.pixels[i].r());
+    out.pixels[3 * i + 1] = Rgb444::expand(image.pixels[i].g());
+    out.pixels[3 * i + 2] = Rgb444::expand(image.pixels[i].b());
+  }
+  return out;
+}
+
 // How two images of the same size differ, channel by channel, in 4-bit levels.
 struct ImageDiff {
   std::size_t pixels = 0;             // pixels compared

@@ -44,16 +44,9 @@ std::FILE* create_temp_beside(const std::string& path, std::string& tmp_path, in
 }  // namespace
 
 core::Result<bool, IoError> write_png(const std::string& path, const core::Image444& image) {
-  core::ImageRgb8 rgb(image.width, image.height);
-  if (image.pixels.size() * 3 != rgb.pixels.size())
+  if (image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
     return error("cannot write PNG", path, "image is empty or its pixel count does not match its size");
-  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-    const core::Rgb444 c = image.pixels[i];
-    rgb.pixels[3 * i + 0] = core::Rgb444::expand(c.r());
-    rgb.pixels[3 * i + 1] = core::Rgb444::expand(c.g());
-    rgb.pixels[3 * i + 2] = core::Rgb444::expand(c.b());
-  }
-  return write_png(path, rgb);
+  return write_png(path, core::to_rgb8(image));
 }
 
 core::Result<bool, IoError> write_png(const std::string& path, const core::ImageRgb8& image) {

@@ -17,16 +17,6 @@ double ms_since(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
-core::ImageRgb8 expand(const core::Image444& image) {
-  core::ImageRgb8 out(image.width, image.height);
-  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-    out.pixels[3 * i + 0] = core::Rgb444::expand(image.pixels[i].r());
-    out.pixels[3 * i + 1] = core::Rgb444::expand(image.pixels[i].g());
-    out.pixels[3 * i + 2] = core::Rgb444::expand(image.pixels[i].b());
-  }
-  return out;
-}
-
 App::App(AppConfig config)
     : config_(std::move(config)), board_(config_.scene, {config_.preset, config_.wire, {}}) {
   if (config_.mode == Mode::kPath) path_scene_ = std::make_unique<render::PathScene>(config_.scene.spheres);
@@ -58,8 +48,17 @@ void App::advance(double dt_s) {
     host::apply_held_key(board_.host().camera(), static_cast<host::Key>(k), dt_s, config_.speeds);
     dirty_ = true;
   }
-  if (dt_s > 0) info_.fps = info_.fps == 0 ? 1.0 / dt_s : 0.9 * info_.fps + 0.1 / dt_s;
-  if (dirty_ || (config_.mode == Mode::kPath && accumulated_spp_ < kMaxPathSamples)) render_frame();
+  if (dirty_ || (config_.mode == Mode::kPath && accumulated_spp_ < kMaxPathSamples)) {
+    render_frame();
+    ++frames_in_window_;
+  }
+  // Frames made per second, over windows of half a second (0 while nothing changes).
+  fps_window_s_ += dt_s;
+  if (fps_window_s_ >= 0.5) {
+    info_.fps = frames_in_window_ / fps_window_s_;
+    fps_window_s_ = 0;
+    frames_in_window_ = 0;
+  }
 }
 
 void App::render_frame() {
@@ -73,14 +72,14 @@ void App::render_frame() {
       info_.link_bytes = shown.link_bytes;
       info_.link_ms = shown.link_seconds * 1e3;
       info_.saturations = shown.saturations.total();
-      frame_ = expand(frame444_);
+      frame_ = core::to_rgb8(frame444_);
       break;
     }
     case Mode::kNormal: {
       const host::ReadyWorld& world = board_.host().update();
       frame444_ = render::render_normal(world.view_spheres, kWidth, kHeight, config_.preset.max_bounces);
       info_.saturations = world.saturations.total();
-      frame_ = expand(frame444_);
+      frame_ = core::to_rgb8(frame444_);
       break;
     }
     case Mode::kPath: {

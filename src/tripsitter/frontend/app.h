@@ -39,7 +39,7 @@ struct Input {
 
 // Figures for the overlay (Tab).
 struct FrameInfo {
-  double fps = 0;            // frames produced per second, smoothed
+  double fps = 0;            // frames made per second over the last half second
   double frame_ms = 0;       // time to produce the last frame
   std::size_t spheres = 0;
   int late_lines = 0;        // hw: lines of the last frame with late pixels
@@ -90,9 +90,8 @@ class App {
   int screenshots_ = 0;
   std::optional<std::string> message_;
   FrameInfo info_;
+  double fps_window_s_ = 0;
+  int frames_in_window_ = 0;
 };
-
-// 12-bit to 24-bit colour, each channel v * 17.
-core::ImageRgb8 expand(const core::Image444& image);
 
 }  // namespace tripsitter::frontend

@@ -84,7 +84,7 @@ TEST(App, F12WritesTheDisplayedFrame) {
   const std::string path = message->substr(prefix.size());
   const auto png = display::read_png(path);
   ASSERT_TRUE(png.ok());
-  EXPECT_EQ(expand(png.value()), app.frame());
+  EXPECT_EQ(core::to_rgb8(png.value()), app.frame());
   fs::remove(path);
 }
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
-#include <thread>
 
 #include <tripsitter/frontend/window.h>
 
@@ -53,8 +52,8 @@ LatencyStats run_window(AppConfig config, const RunOptions& options) {
       stats.max_ms = std::max(stats.max_ms, latency);
       key_pending = false;
     }
-    // Nothing changed and no vsync to wait on: do not spin.
-    if (app.frame_serial() == serial_before) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    // Nothing changed: sleep until the next event rather than spin (a held key keeps frames coming).
+    if (app.frame_serial() == serial_before) window.wait(10);
   }
   if (stats.samples > 0) stats.mean_ms = latency_sum / stats.samples;
   return stats;

@@ -90,6 +90,8 @@ std::vector<PolledInput> Window::poll() {
   return out;
 }
 
+void Window::wait(int ms) { SDL_WaitEventTimeout(nullptr, ms); }
+
 void Window::set_title(const std::string& title) { SDL_SetWindowTitle(window_, title.c_str()); }
 
 void Window::present(const core::ImageRgb8& frame, std::uint64_t serial, const std::vector<std::string>& overlay_lines) {

@@ -35,6 +35,8 @@ class Window {
   // drawn on top when given.
   void present(const core::ImageRgb8& frame, std::uint64_t serial, const std::vector<std::string>& overlay_lines);
   void set_title(const std::string& title);
+  // Sleeps until an event arrives or `ms` milliseconds pass, whichever is first.
+  void wait(int ms);
   // Milliseconds since SDL started, the clock of PolledInput::sdl_ticks_ms.
   static std::uint32_t ticks_ms();
   bool has_font() const { return font_ != nullptr; }
