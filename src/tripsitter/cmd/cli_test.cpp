@@ -156,4 +156,22 @@ TEST_F(Cli, VcdHasTheSignals) {
     EXPECT_NE(vcd.find(word), std::string::npos) << word;
 }
 
+TEST_F(Cli, AnimationWritesNumberedFramesOfAnOrbit) {
+  const Result r = run("render --scene cluster --frames 3 --orbit 90 --out " + path("f_%02d.png") + " --video " +
+                       path("orbit.mp4"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* name : {"f_00.png", "f_01.png", "f_02.png"}) EXPECT_TRUE(fs::exists(path(name))) << name;
+  EXPECT_FALSE(fs::exists(path("f_03.png")));
+  EXPECT_NE(slurp(dir_ / "f_00.png"), slurp(dir_ / "f_01.png"));
+  if (std::system("command -v ffmpeg >/dev/null 2>&1") == 0) {
+    EXPECT_TRUE(fs::exists(path("orbit.mp4")));
+  } else {
+    EXPECT_NE(r.err.find("ffmpeg is not installed"), std::string::npos) << r.err;
+  }
+  const Result bad = run("render --frames 2 --out " + path("no_pattern.png"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("%d"), std::string::npos) << bad.err;
+  EXPECT_EQ(run("render --orbit 30 --out " + path("x.png")).exit_code, 2);
+}
+
 }  // namespace
