@@ -42,7 +42,8 @@ double median_fps(const BenchOptions& o, F&& frame) {
 }
 
 int run_bench(const BenchOptions& o) {
-  std::printf("machine: %u hardware threads; 1 thread used; median of %d runs of at least %.1f s\n",
+  std::printf("machine: %u hardware threads; hw computes a frame's lines on all of them, normal uses one;\n"
+              "median of %d runs of at least %.1f s\n",
               std::thread::hardware_concurrency(), o.runs, o.seconds);
   std::printf("%-28s %12s\n", "figure", "frames/s");
   for (int n : {1, 16, 64}) {

@@ -2,6 +2,9 @@
 
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 namespace tripsitter::device {
 namespace {
 
@@ -12,8 +15,8 @@ DevicePreset checked(const DevicePreset& preset) {
 
 }  // namespace
 
-Device::Device(const DevicePreset& preset, link::WireVersion wire)
-    : preset_(checked(preset)), receiver_(preset_, wire), controller_(preset_) {
+Device::Device(const DevicePreset& preset, link::WireVersion wire, int threads)
+    : preset_(checked(preset)), receiver_(preset_, wire), controller_(preset_), threads_(threads) {
   // Out of reset at the start of vertical blanking.
   while (vga_.line() != vga_.mode().v_visible) vga_.tick();
 }
@@ -21,14 +24,21 @@ Device::Device(const DevicePreset& preset, link::WireVersion wire)
 void Device::start_line(int line) {
   const VgaMode& mode = vga_.mode();
   if (line == mode.v_visible) {
-    // Vertical blanking: a waiting world becomes scene memory.
+    // Vertical blanking: a waiting world becomes scene memory, fixed until the next blanking.
     receiver_.swap_if_pending(scene_);
+    if (threads_ != 1) compute_frame_lines();
     building_ = {scene_.sequence, scene_.valid, 0, 0};
   }
   const int next = (line + 1) % mode.v_total();
   if (next < mode.v_visible) {
     auto& back = line_buffers_[static_cast<std::size_t>(1 - front_)];
-    const LineResult r = controller_.render_line(next, scene_, back);
+    LineResult r;
+    if (threads_ != 1) {
+      back = frame_lines_[static_cast<std::size_t>(next)];
+      r.late_pixels = frame_late_[static_cast<std::size_t>(next)];
+    } else {
+      r = controller_.render_line(next, scene_, back);
+    }
     if (r.late_pixels > 0) {
       building_.late_pixels += r.late_pixels;
       ++building_.late_lines;
@@ -36,6 +46,19 @@ void Device::start_line(int line) {
       ++total_late_lines_;
     }
   }
+}
+
+void Device::compute_frame_lines() {
+  const int lines = vga_.mode().v_visible;
+  frame_lines_.resize(static_cast<std::size_t>(lines));
+  frame_late_.resize(static_cast<std::size_t>(lines));
+  tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(0, lines, [&](int row) {
+      frame_late_[static_cast<std::size_t>(row)] =
+          controller_.render_line(row, scene_, frame_lines_[static_cast<std::size_t>(row)]).late_pixels;
+    });
+  });
 }
 
 VgaSample Device::tick() {

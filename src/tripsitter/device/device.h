@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <vector>
 
 #include <tripsitter/core/rgb444.h>
 #include <tripsitter/device/controller.h>
@@ -32,8 +33,10 @@ struct FrameStats {
 
 class Device : public link::Endpoint {
  public:
-  // REQUIRES preset.validate() is empty.
-  Device(const DevicePreset& preset, link::WireVersion wire);
+  // REQUIRES preset.validate() is empty. `threads` only changes how fast the model runs, never what it
+  // shows: 1 computes each line when the controller starts it (the plain model); any other value computes
+  // a frame's lines in parallel when its world is fixed, at the start of vertical blanking (0: all cores).
+  Device(const DevicePreset& preset, link::WireVersion wire, int threads = 0);
 
   // link::Endpoint: the ready line and one SPI transfer.
   bool ready() const override { return receiver_.ready(); }
@@ -57,6 +60,7 @@ class Device : public link::Endpoint {
 
  private:
   void start_line(int line);
+  void compute_frame_lines();
 
   DevicePreset preset_;
   Receiver receiver_;
@@ -64,6 +68,10 @@ class Device : public link::Endpoint {
   SceneMemory scene_;
   VgaTimingGenerator vga_;
   std::array<std::array<core::Rgb444, kLineWidth>, 2> line_buffers_{};
+  int threads_;
+  // threads_ != 1: the lines of the frame being drawn, computed ahead, with their late pixel counts.
+  std::vector<std::array<core::Rgb444, kLineWidth>> frame_lines_;
+  std::vector<int> frame_late_;
   int front_ = 0;  // index of the line buffer the VGA block reads
   FrameStats building_;
   std::uint64_t total_late_pixels_ = 0;

@@ -1,5 +1,7 @@
 #include <tripsitter/device/device.h>
 
+#include <random>
+
 #include <array>
 
 #include <gtest/gtest.h>
@@ -144,6 +146,29 @@ TEST(Device, BouncingPixelsAreLateOnEveryLine) {
   for (int row = 0; row < 480; row += 31)
     for (int col = 240; col < 640; ++col) ASSERT_EQ(pixels[static_cast<std::size_t>(row * 640 + col)], core::kBlack);
   EXPECT_NE(pixels[100 * 640 + 5], core::kBlack);
+}
+
+// The parallel model (lines computed ahead at vertical blanking) shows exactly what the plain model shows,
+// frame after frame, late pixels included.
+TEST(Device, ParallelFramesEqualThePlainModel) {
+  std::mt19937 rng(12);
+  for (const DevicePreset& p : {wide_preset(), board_2023_preset()}) {
+    Device plain(p, link::WireVersion::kV2, 1), parallel(p, link::WireVersion::kV2, 2);
+    for (int world = 0; world < 4; ++world) {
+      std::vector<std::array<double, 4>> spheres;
+      std::uniform_real_distribution<double> xy(-300, 300), z(150, 1500), r(5, 120);
+      const int count = world == 3 ? 60 : 1 + world * 7;  // 60 spheres: late pixels on the wide preset too
+      for (int i = 0; i < count && i < static_cast<int>(p.max_spheres); ++i) spheres.push_back({xy(rng), xy(rng) / 2, z(rng) / 2, r(rng) / 2});
+      const auto bytes = frame_of(p, static_cast<std::uint32_t>(world + 1), spheres);
+      plain.transfer(bytes);
+      parallel.transfer(bytes);
+      FrameStats a, b;
+      ASSERT_EQ(visible_pixels(plain, &a), visible_pixels(parallel, &b)) << p.name << " world " << world;
+      EXPECT_EQ(a.late_pixels, b.late_pixels);
+      EXPECT_EQ(a.late_lines, b.late_lines);
+      EXPECT_EQ(a.sequence, b.sequence);
+    }
+  }
 }
 
 }  // namespace

@@ -40,8 +40,7 @@ Window::Window(const std::string& title, int scale) {
   window_ = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, App::kWidth * scale,
                              App::kHeight * scale, SDL_WINDOW_RESIZABLE);
   if (window_ == nullptr) fail("cannot open a window");
-  renderer_ = SDL_CreateRenderer(window_, -1, SDL_RENDERER_PRESENTVSYNC);
-  if (renderer_ == nullptr) renderer_ = SDL_CreateRenderer(window_, -1, 0);
+  renderer_ = SDL_CreateRenderer(window_, -1, 0);
   if (renderer_ == nullptr) fail("cannot create a renderer");
   // The picture keeps its 4:3 aspect at an integer scale, centred, when the window is resized.
   SDL_RenderSetLogicalSize(renderer_, App::kWidth, App::kHeight);
