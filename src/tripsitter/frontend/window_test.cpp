@@ -1,9 +1,14 @@
 // The SDL window with SDL's offscreen video driver: no display needed.
+#include <tripsitter/frontend/run.h>
 #include <tripsitter/frontend/window.h>
+#include <tripsitter/scene/builtin.h>
 
 #include <SDL.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
+#include <filesystem>
 
 #include <gtest/gtest.h>
 
@@ -51,6 +56,32 @@ TEST_F(WindowTest, PresentsFramesWithAndWithoutOverlay) {
   w.present(frame, 2, help_text());
   EXPECT_FALSE(help_text().empty());
   EXPECT_EQ(overlay_text(FrameInfo{}, Mode::kHw).size(), 5u);
+}
+
+// The whole loop through SDL: key events pushed into SDL's queue reach the App, which answers a held key
+// with a new frame, F12 with a screenshot and Esc by quitting.
+TEST_F(WindowTest, ScriptedKeysDriveTheLoop) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("tripsitter_window_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  AppConfig config;
+  config.scene = *scene::builtin("demo");
+  config.screenshot_dir = dir.string();
+
+  ASSERT_EQ(SDL_InitSubSystem(SDL_INIT_VIDEO), 0) << SDL_GetError();
+  push_key(SDL_SCANCODE_D, true);  // held for the whole run
+  LatencyStats moved = run_window(config, {1, 5});
+  EXPECT_EQ(moved.samples, 1);  // the press was answered by a new frame
+  SDL_QuitSubSystem(SDL_INIT_VIDEO);
+
+  ASSERT_EQ(SDL_InitSubSystem(SDL_INIT_VIDEO), 0) << SDL_GetError();
+  push_key(SDL_SCANCODE_F12, true);
+  push_key(SDL_SCANCODE_ESCAPE, true);
+  run_window(config, {1, 1000});  // Esc ends it long before 1000 frames
+  SDL_QuitSubSystem(SDL_INIT_VIDEO);
+  EXPECT_TRUE(fs::exists(dir / "tripsitter-1.png"));
+  fs::remove_all(dir);
 }
 
 }  // namespace
