@@ -11,7 +11,7 @@ case "$job" in
   *) echo "usage: $0 demo|test" >&2; exit 2 ;;
 esac
 
-packages=(g++ cmake make pkg-config libpng-dev nlohmann-json3-dev libcli11-dev libtbb-dev libsdl2-dev libsdl2-ttf-dev
+packages=(g++ cmake make pkg-config libpng-dev nlohmann-json3-dev libcli11-dev libsdl2-dev libsdl2-ttf-dev
           fonts-dejavu-core libgtest-dev libbenchmark-dev)
 missing=()
 for p in "${packages[@]}"; do

@@ -2,8 +2,7 @@
 
 #include <stdexcept>
 
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
+#include <tripsitter/core/parallel.h>
 
 namespace tripsitter::device {
 namespace {
@@ -52,12 +51,9 @@ void Device::compute_frame_lines() {
   const int lines = vga_.mode().v_visible;
   frame_lines_.resize(static_cast<std::size_t>(lines));
   frame_late_.resize(static_cast<std::size_t>(lines));
-  tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(0, lines, [&](int row) {
-      frame_late_[static_cast<std::size_t>(row)] =
-          controller_.render_line(row, scene_, frame_lines_[static_cast<std::size_t>(row)]).late_pixels;
-    });
+  core::parallel_for(0, lines, threads_, [&](int row) {
+    frame_late_[static_cast<std::size_t>(row)] =
+        controller_.render_line(row, scene_, frame_lines_[static_cast<std::size_t>(row)]).late_pixels;
   });
 }
 

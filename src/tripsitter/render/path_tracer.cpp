@@ -2,9 +2,7 @@
 
 #include <cmath>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
+#include <tripsitter/core/parallel.h>
 
 namespace tripsitter::render {
 namespace {
@@ -66,23 +64,18 @@ ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, cons
   ImageRgbF image{settings.width, settings.height,
                   std::vector<Vec3f>(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height))};
   const float inv_spp = 1.0f / static_cast<float>(settings.spp);
-  const auto rows = [&](const tbb::blocked_range<int>& range) {
-    for (int row = range.begin(); row != range.end(); ++row) {
-      for (int col = 0; col < settings.width; ++col) {
-        const std::uint64_t index = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(settings.width) +
-                                    static_cast<std::uint64_t>(col);
-        Rng rng = Rng::for_item(settings.seed, index);
-        Vec3f sum{0, 0, 0};
-        for (int s = 0; s < settings.spp; ++s)
-          sum += trace_path(scene, camera.ray(col, row, rng), settings.max_depth, settings.sky, rng);
-        image.pixels[index] = sum * inv_spp;
-      }
-      if (on_samples) on_samples(static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp));
+  core::parallel_for(0, settings.height, settings.threads, [&](int row) {
+    for (int col = 0; col < settings.width; ++col) {
+      const std::uint64_t index = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(settings.width) +
+                                  static_cast<std::uint64_t>(col);
+      Rng rng = Rng::for_item(settings.seed, index);
+      Vec3f sum{0, 0, 0};
+      for (int s = 0; s < settings.spp; ++s)
+        sum += trace_path(scene, camera.ray(col, row, rng), settings.max_depth, settings.sky, rng);
+      image.pixels[index] = sum * inv_spp;
     }
-  };
-  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
-  arena.execute([&] { tbb::parallel_for(tbb::blocked_range<int>(0, settings.height, 1), rows); });
+    if (on_samples) on_samples(static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp));
+  });
   return image;
 }
 
