@@ -1,6 +1,7 @@
 // The command line as a user meets it: exit codes, messages, files written or not.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -172,6 +173,103 @@ TEST_F(Cli, AnimationWritesNumberedFramesOfAnOrbit) {
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("%d"), std::string::npos) << bad.err;
   EXPECT_EQ(run("render --orbit 30 --out " + path("x.png")).exit_code, 2);
+}
+
+// Malformed scene files through the command line: one message naming the file and place, exit code 2,
+// no output file.
+TEST_F(Cli, MalformedSceneFilesAreRejectedWithAPlaceAndNoOutput) {
+  struct Case {
+    std::string name, text, expected;  // expected: a piece of the message, after "FILE:"
+  };
+  const std::string ok_sphere = R"({"center": [0, 0, 0], "radius": 1})";
+  std::string deep(100000, '[');
+  std::string garbage("\x00\x01\xff\xfe{\x80\x81", 8);
+  const std::vector<Case> cases = {
+      {"empty", "", "1:1:"},
+      {"not_json", "hello", "1:1:"},
+      {"binary", garbage, "1:"},
+      {"trailing_comma", "{\"spheres\": [" + ok_sphere + ",]}", "1:"},
+      {"unclosed", "{\"spheres\": [" + ok_sphere, "1:"},
+      {"top_array", "[]", "1:1:"},
+      {"deep", deep, "1:1:"},
+      {"no_spheres", "{}", "1:1:"},
+      {"spheres_object", "{\"spheres\": {}}", "1:13:"},
+      {"wrong_type_vfov", "{\"camera\": {\"vfov\": \"wide\"}, \"spheres\": []}", "1:21:"},
+      {"vfov_zero", "{\"camera\": {\"vfov\": 0}, \"spheres\": []}", "1:21:"},
+      {"vfov_180", "{\"camera\": {\"vfov\": 180}, \"spheres\": []}", "1:21:"},
+      {"lookfrom_is_lookat", "{\"camera\": {\"lookfrom\": [0,0,0], \"lookat\": [0,0,0]}, \"spheres\": []}", "1:"},
+      {"vup_parallel", "{\"camera\": {\"vup\": [0,0,1]}, \"spheres\": []}", "1:"},
+      {"focus_negative", "{\"camera\": {\"focus_dist\": -1}, \"spheres\": []}", "1:"},
+      {"huge_number", "{\"spheres\": [{\"center\": [0, 1e999, 0], \"radius\": 1}]}", "1:"},
+      {"radius_zero", "{\"spheres\": [{\"center\": [0, 0, 0], \"radius\": 0}]}", "1:"},
+      {"radius_negative", "{\"spheres\": [{\"center\": [0, 0, 0], \"radius\": -2}]}", "1:"},
+      {"center_two", "{\"spheres\": [{\"center\": [0, 0], \"radius\": 1}]}", "1:"},
+      {"center_string", "{\"spheres\": [{\"center\": \"origin\", \"radius\": 1}]}", "1:"},
+      {"missing_radius", "{\"spheres\": [{\"center\": [0, 0, 0]}]}", "1:"},
+      {"missing_center", "{\"spheres\": [{\"radius\": 1}]}", "1:"},
+      {"unknown_material", "{\"spheres\": [{\"center\": [0,0,0], \"radius\": 1, \"material\": {\"type\": \"wood\"}}]}", "1:"},
+      {"albedo_two", "{\"spheres\": [{\"center\": [0,0,0], \"radius\": 1, \"material\": {\"type\": \"metal\", \"albedo\": [2, 0, 0]}}]}", "1:"},
+      {"fuzz_negative", "{\"spheres\": [{\"center\": [0,0,0], \"radius\": 1, \"material\": {\"type\": \"metal\", \"fuzz\": -0.5}}]}", "1:"},
+      {"ior_zero", "{\"spheres\": [{\"center\": [0,0,0], \"radius\": 1, \"material\": {\"type\": \"dielectric\", \"ior\": 0}}]}", "1:"},
+      {"unknown_key", "{\"spheres\": [], \"camra\": {}}", "1:"},
+      {"width_zero", "{\"render\": {\"width\": 0}, \"spheres\": []}", "1:"},
+      {"width_absurd", "{\"render\": {\"width\": 100000}, \"spheres\": []}", "1:"},
+      {"spp_fraction", "{\"render\": {\"spp\": 1.5}, \"spheres\": []}", "1:"},
+      {"depth_negative", "{\"render\": {\"max_depth\": -1}, \"spheres\": []}", "1:"},
+      {"units_zero", "{\"units_per_world\": 0, \"spheres\": []}", "1:"},
+      {"second_line", "{\n  \"spheres\": [\n    {\"center\": [0, 0, 0], \"radius\": \"big\"}\n  ]\n}\n", "3:"},
+  };
+  ASSERT_GE(cases.size(), 30u);
+  for (const auto& c : cases) {
+    const std::string file = path(c.name + ".json");
+    std::ofstream(file, std::ios::binary) << c.text;
+    for (const char* mode : {"hw", "path"}) {
+      const Result r = run("render --mode " + std::string(mode) + " --quiet --scene " + file + " --out " + path("x.png"));
+      EXPECT_EQ(r.exit_code, 2) << c.name << " " << mode << "\n" << r.err;
+      EXPECT_NE(r.err.find(file + ":" + c.expected), std::string::npos) << c.name << "\n" << r.err;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.name << ": one message\n" << r.err;
+      EXPECT_FALSE(fs::exists(path("x.png"))) << c.name;
+    }
+  }
+}
+
+// Bad flags of every subcommand: exit code 2, a message naming the flag, nothing written.
+TEST_F(Cli, BadFlagsExitTwoAndNameTheFlag) {
+  struct Case {
+    std::string args, expected;
+  };
+  const std::vector<Case> cases = {
+      {"render --spp 0 --mode path", "--spp"},
+      {"render --spp 100000000 --mode path", "--spp"},
+      {"render --depth 0 --mode path", "--depth"},
+      {"render --width 0 --mode normal", "--width"},
+      {"render --height 99999 --mode normal", "--height"},
+      {"render --threads 0 --mode path", "--threads"},
+      {"render --spp 4", "--spp"},  // hw traces one ray per pixel
+      {"render --bounces 7", "--bounces"},
+      {"render --lines 0 --vcd " + path("v.vcd"), "--lines"},
+      {"render --transfer-bytes 0", "--transfer-bytes"},
+      {"render --spi-hz 0", "--spi-hz"},
+      {"render --frames 0 --out " + path("f_%d.png"), "--frames"},
+      {"render --orbit 10", "--orbit"},
+      {"render --mode normal --vcd " + path("v.vcd"), "--vcd"},
+      {"render --compare --mode normal", "--compare"},
+      {"run --scale 0", "--scale"},
+      {"run --mode sideways", "--mode"},
+      {"link decode --wire v9", "wire"},
+      {"bench --runs 0", "--runs"},
+      {"host --connect nowhere", "nowhere"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run(c.args + " --out " + path("x.png"));
+    const Result plain = run(c.args);
+    for (const Result* res : {&r, &plain}) {
+      EXPECT_EQ(res->exit_code, 2) << c.args << "\n" << res->err;
+    }
+    EXPECT_NE(plain.err.find(c.expected), std::string::npos) << c.args << "\n" << plain.err;
+    EXPECT_FALSE(fs::exists(path("x.png"))) << c.args;
+    EXPECT_FALSE(fs::exists(path("v.vcd"))) << c.args;
+  }
 }
 
 }  // namespace
