@@ -72,14 +72,8 @@ bool is_decimal(std::string_view s) {
   return all_digits(s.substr(0, dot)) && all_digits(s.substr(dot + 1));
 }
 
-// A duration word in microseconds, or the reason it is not one.
-core::Result<std::int64_t, std::string> parse_duration(std::string_view word) {
-  const std::string bad = "bad duration " + quoted(word) +
-                          ": expected a number of milliseconds or seconds, like 500ms, 0.5s or 500 (milliseconds)";
-  if (!word.empty() && word[0] == '-') {
-    if (parse_duration(word.substr(1)).ok()) return "negative duration " + quoted(word);
-    return bad;
-  }
+// An unsigned duration word in microseconds, or nothing (too long: the reason).
+core::Result<std::int64_t, std::string> parse_magnitude(std::string_view word, bool& well_formed) {
   std::string_view number = word;
   double micros_per_unit = 1000.0;  // a bare number is milliseconds
   if (ends_with_icase(word, "ms")) {
@@ -88,14 +82,33 @@ core::Result<std::int64_t, std::string> parse_duration(std::string_view word) {
     number.remove_suffix(1);
     micros_per_unit = 1e6;
   }
-  if (!is_decimal(number)) return bad;
+  well_formed = false;
+  if (!is_decimal(number)) return std::string();
   double value = 0;
   const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), value);
-  if (end != number.data() + number.size()) return bad;
+  if (end != number.data() + number.size()) return std::string();
+  well_formed = true;
   const double micros = ec == std::errc::result_out_of_range ? HUGE_VAL : value * micros_per_unit;
   if (!(micros <= static_cast<double>(kMaxActionMicros)))
     return "duration " + quoted(word) + " is longer than one hour, the most one action may last";
   return static_cast<std::int64_t>(std::llround(micros));
+}
+
+// A duration word in microseconds, or the reason it is not one. Linear in the word's length.
+core::Result<std::int64_t, std::string> parse_duration(std::string_view word) {
+  const auto bad = [&] {
+    return "bad duration " + quoted(word) +
+           ": expected a number of milliseconds or seconds, like 500ms, 0.5s or 500 (milliseconds)";
+  };
+  const bool negative = !word.empty() && word[0] == '-';
+  bool well_formed = false;
+  auto magnitude = parse_magnitude(negative ? word.substr(1) : word, well_formed);
+  if (negative) {
+    if (magnitude.ok()) return "negative duration " + quoted(word);
+    return bad();
+  }
+  if (!well_formed) return bad();
+  return magnitude;
 }
 
 std::int64_t ticks_for(std::int64_t micros) {

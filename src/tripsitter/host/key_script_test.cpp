@@ -180,4 +180,17 @@ TEST(KeyScriptPlayer, AnEmptyScriptIsDoneAtOnce) {
 }
 
 }  // namespace
+// Regression (found while fuzzing, fuzz/regressions/key_script): a duration of many dashes recursed once per
+// dash and built a message each time, overflowing the stack.
+TEST(KeyScript, ManyDashesAreOneBadDuration) {
+  for (const std::size_t dashes : {std::size_t{2}, std::size_t{20000}, std::size_t{500000}}) {
+    const std::string script = "W " + std::string(dashes, '-') + "5ms";
+    const auto result = parse_key_script(script);
+    ASSERT_FALSE(result.ok());
+    EXPECT_EQ(result.error().line, 1);
+    EXPECT_EQ(result.error().column, 3);
+    EXPECT_EQ(result.error().message.rfind("bad duration", 0), 0u);
+  }
+}
+
 }  // namespace tripsitter::host
