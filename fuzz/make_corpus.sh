@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# Regenerates the seed corpora of fuzz/corpus/ from real encoded worlds (tripsitter link encode), the
+# repository's scenes and a few key scripts. Deterministic: running it again gives the same files.
+#   fuzz/make_corpus.sh [path/to/tripsitter]     (default: build/fuzz's, else build/release's)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bin=${1:-}
+if [ -z "$bin" ]; then
+  for b in build/fuzz/src/tripsitter/cmd/tripsitter build/release/src/tripsitter/cmd/tripsitter; do
+    [ -x "$b" ] && { bin=$b; break; }
+  done
+fi
+[ -n "$bin" ] && [ -x "$bin" ] || { echo "no tripsitter binary: build one, or pass its path" >&2; exit 2; }
+export ASAN_OPTIONS=detect_leaks=0   # a sanitizer build of the command is fine here
+
+out=fuzz/corpus
+rm -rf "$out"
+mkdir -p "$out"/{wire_v1,wire_v2,receiver,scene_json,key_script}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# encode SCENE PRESET WIRE: the host's bytes for one world.
+encode() { "$bin" link encode --scene "$1" --preset "$2" --wire "$3" 2>/dev/null; }
+# bytes HEX...: raw bytes from hex pairs.
+bytes() { printf '%s' "$*" | xxd -r -p; }
+# tag NAME: a file-name-safe name for a scene.
+tag() { basename "$1" .json; }
+
+printf '{"spheres": []}' > "$tmp/empty.json"
+scenes=(demo cluster field random-3 random-60 scenes/three_materials.json "$tmp/empty.json")
+for s in "${scenes[@]}"; do
+  for preset in wide board-2023; do
+    encode "$s" "$preset" v2 > "$tmp/$(tag "$s")-$preset.v2"
+    encode "$s" "$preset" v1 > "$tmp/$(tag "$s")-$preset.v1"
+  done
+done
+# field has 488 spheres (11.7 KB as a frame, more than the stream decoder's 4 KB slice): it seeds only the
+# receiver, whose input may be that long; the other seeds stay small, so the fuzzers stay fast.
+
+# wire_v2: whole frames, and streams of frames with damage between them.
+for f in "$tmp"/*.v2; do cp "$f" "$out/wire_v2/$(basename "$f" .v2)"; done
+cat "$tmp/demo-wide.v2" "$tmp/cluster-wide.v2" > "$out/wire_v2/stream-two-frames"
+{ bytes 0001545357; cat "$tmp/demo-wide.v2"; } > "$out/wire_v2/stream-garbage-then-frame"
+head -c 100 "$tmp/cluster-wide.v2" > "$out/wire_v2/stream-truncated"
+{ head -c 30 "$tmp/cluster-wide.v2"; cat "$tmp/three_materials-wide.v2"; } > "$out/wire_v2/stream-frame-inside-damaged"
+bytes 5453573202000000000000070000000000000000 > "$out/wire_v2/empty-world-without-crc"
+rm -f "$out"/wire_v2/field-* "$out"/wire_v2/random-60-board-2023
+
+# wire_v1: a control byte (transfer sizes, an odd one resets at a boundary), then the words.
+for f in "$tmp"/*.v1; do
+  name=$(basename "$f" .v1)
+  case "$name" in field-*|random-60-*) continue ;; esac
+  { bytes 00; cat "$f"; } > "$out/wire_v1/$name"
+done
+{ bytes 07; cat "$tmp/cluster-board-2023.v1"; } > "$out/wire_v1/cluster-with-reset"
+{ bytes 02; cat "$tmp/demo-board-2023.v1"; bytes 0102; } > "$out/wire_v1/demo-and-partial-word"
+
+# receiver: configuration (bit 0 v1, bit 1 board-2023, bits 2..3 unit 1/4/16/64), a count of transfer bytes
+# (bits 0..6 length in units, bit 7 a vertical blanking after it), the transfer bytes, then the link bytes.
+# receiver_seed NAME CONFIG TRANSFERS FILES...
+receiver_seed() {
+  local name=$1 config=$2 transfers=$3
+  shift 3
+  local count=$(( ${#transfers} / 2 ))
+  { bytes "$config" "$(printf '%02x' "$count")" "$transfers"; cat "$@"; } > "$out/receiver/$name"
+}
+receiver_seed v2-demo-wide 00 "" "$tmp/demo-wide.v2"
+receiver_seed v2-cluster-wide-7byte-transfers 00 07 "$tmp/cluster-wide.v2"
+receiver_seed v2-cluster-board 02 "90" "$tmp/cluster-board-2023.v2"
+receiver_seed v2-field-wide-1k-transfers 0c "c0" "$tmp/field-wide.v2"
+receiver_seed v2-two-worlds-blanking-between 00 "3081" "$tmp/demo-wide.v2" "$tmp/three_materials-wide.v2"
+receiver_seed v2-wrong-preset 00 "" "$tmp/cluster-board-2023.v2"
+receiver_seed v2-two-worlds-3-and-8-byte-transfers 00 "0388" "$tmp/random-3-wide.v2" "$tmp/cluster-wide.v2"
+receiver_seed v2-garbage-then-world 00 "1f" "$out/wire_v2/stream-garbage-then-frame"
+receiver_seed v2-empty-world 00 "" "$tmp/empty-wide.v2"
+receiver_seed v1-cluster-board 03 "88" "$tmp/cluster-board-2023.v1"
+receiver_seed v1-three-wide 01 "0583" "$tmp/three_materials-wide.v1"
+receiver_seed v1-demo-board 03 "" "$tmp/demo-board-2023.v1"
+
+# scene_json: the repository's scenes and small variants of the format.
+cp scenes/*.json "$out/scene_json/"
+printf '{"spheres": []}' > "$out/scene_json/minimal.json"
+cat > "$out/scene_json/every-key.json" <<'JSON'
+{"name": "all", "units_per_world": 32,
+ "camera": {"lookfrom": [0, 1, -10], "lookat": [0, 0, 0], "vup": [0, 1, 0], "vfov": 73.739795291688,
+            "defocus_angle": 0.5, "focus_dist": 10},
+ "render": {"width": 640, "height": 480.0, "spp": 4, "max_depth": 8},
+ "spheres": [
+  {"center": [0, 0, 0], "radius": 1, "material": {"type": "lambertian", "albedo": [0.8, 0.3, 0.3]}},
+  {"center": [2, 0, 0], "radius": 0.5, "material": {"type": "metal", "albedo": [0.8, 0.8, 0.8], "fuzz": 0.1}},
+  {"center": [-2, 0, 0], "radius": 0.5, "material": {"type": "dielectric", "ior": 1.5}},
+  {"center": [1e6, -1e6, 3e5], "radius": 1e-9}
+ ]}
+JSON
+printf '\xef\xbb\xbf{"spheres": [{"center": [0, 0, 5], "radius": 2}], "camera": {"lookat": [0, 0, 1e-300]}}\n' \
+  > "$out/scene_json/bom-and-tiny-distance.json"
+printf '{"spheres": [{"center": [0, 0, 0], "radius": 1e999}]}' > "$out/scene_json/error-out-of-range.json"
+printf '{\n  "camera": {"lookfrom": [0, 0, 0], "lookat": [0, 10, 0]},\n  "spheres": [\n' > "$out/scene_json/error-vup-parallel.json"
+printf '{"spheres": [{"center": [0, 0, 0], "radius": 1, "material": {"type": "metal", "fuz": 0}}]}' \
+  > "$out/scene_json/error-unknown-key.json"
+
+# key_script: the documented example, the test scripts and the documented errors.
+cat > "$out/key_script/docs-example" <<'KEYS'
+# Walk up to the sphere, look left, step right.
+W 500ms        # hold W for half a second
+J 0.2s
+d 100          # a bare number is milliseconds; keys in either case
+wait 1s        # hold nothing for a second
+L              # no duration: a tap, one tick
+R              # reset world and camera
+KEYS
+printf '# forward, look left, step right\nW 500ms\nJ 200ms\nD 100ms\n' > "$out/key_script/forward-left-right"
+printf 'W 300ms\r\nwait 60s\r\nL 300ms\r\nS 200ms\r\nQ 100ms\r\nI\r\nE 3600s\r\nk 25MS\r\ni 1ms\r\nWAIT 5ms\r\n' \
+  > "$out/key_script/crlf-every-key"
+printf 'a 007.50\nwait 0.0001s\n\t q\t2S # tabs\n' > "$out/key_script/decimals-and-tabs"
+printf 'W 500ms\n  X 1s\n' > "$out/key_script/error-unknown-key"
+printf 'W -5ms\nW 3601s\nwait\n' > "$out/key_script/error-negative"
+printf 'W 500ms forward\nW500ms\nW 5min\n' > "$out/key_script/error-extra-word"
+
+for d in "$out"/*; do echo "$(basename "$d"): $(ls "$d" | wc -l) files, $(du -sh "$d" | cut -f1)"; done

@@ -1,0 +1,228 @@
+// The device's receiver (device/receiver.h) fed arbitrary transfers, with vertical blankings in between.
+//
+// Input: a configuration byte, a count byte, that many transfer bytes, then the link bytes.
+//   configuration: bit 0 the wire (0 v2, 1 v1), bit 1 the preset (0 wide, 1 board-2023), bits 2..3 the
+//                  transfer length unit (1, 4, 16 or 64 bytes), bit 4 keep the v2 CRCs as they are (when
+//                  clear, the CRC of every frame with a consistent header is rewritten first: v2_repair.h);
+//   count:         0..15 transfer bytes (count % 16); none sends the link bytes as one transfer;
+//   transfer byte: bits 0..6 the transfer's length in units (0 is an empty transfer), bit 7 a vertical
+//                  blanking (swap_if_pending) after it. The transfer bytes are used in turn, cyclically,
+//                  until the link bytes run out.
+// At the end: end_of_stream() and one last vertical blanking.
+//
+// Checks, after every transfer and blanking:
+//   - ready() is low exactly while a world accepted since the last swap waits; swap_if_pending() swaps
+//     exactly when ready() was low, and raises it;
+//   - a swapped-in scene memory is valid, holds at most the preset's spheres (one for v1), every centre and
+//     radius inside the preset's formats (radius > 0; a power of two for v1), known materials, ior > 0;
+//   - it is the latest world accepted, the same as a reference decode of the whole byte stream at once
+//     (link::V2StreamDecoder, or aligned v1 words) with the receiver's documented acceptance rules applied;
+//   - a worker draws the last one without harm (no assertion, no overflow) at a few pixels: the corners,
+//     the centre and where the first spheres' centres project, with up to core::kMaxBounces mirror bounces
+//     (any world inside the formats must be drawable; docs/device.md bounds the intermediates);
+// and at the end: the counts of accepted, rejected and garbage match the reference, and every link byte is
+// either in an accepted world or counted as dropped.
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <tripsitter/core/fixed.h>
+#include <tripsitter/device/preset.h>
+#include <tripsitter/device/receiver.h>
+#include <tripsitter/device/scene_memory.h>
+#include <tripsitter/link/wire_v1.h>
+#include <tripsitter/link/wire_v2.h>
+
+#include "check.h"
+#include "trace_pixels.h"
+#include "v2_repair.h"
+
+namespace {
+
+namespace core = tripsitter::core;
+namespace device = tripsitter::device;
+namespace link = tripsitter::link;
+
+// What the whole stream should do to the receiver.
+struct Reference {
+  std::vector<device::SceneMemory> accepted;  // scene memory after each accepted world, in order
+  std::vector<std::size_t> accepted_bytes;
+  std::uint64_t rejected = 0;
+  std::uint64_t garbage_runs = 0;
+};
+
+// The receiver's acceptance rule for v2 (receiver.h, docs/device.md): the preset's fractional bits, every
+// centre and radius inside the preset's formats.
+Reference reference_v2(std::span<const std::uint8_t> bytes, const device::DevicePreset& p) {
+  Reference ref;
+  link::V2StreamDecoder decoder(
+      p.max_spheres,
+      {.on_frame =
+           [&](link::World&& w) {
+             bool ok = w.frac_bits == p.frac_bits();
+             for (const link::WireSphere& s : w.spheres) {
+               ok = ok && p.x.contains(s.x) && p.y.contains(s.y) && p.z.contains(s.z) && p.radius.contains(s.radius);
+             }
+             if (!ok) {
+               ++ref.rejected;
+               return;
+             }
+             device::SceneMemory m;
+             m.valid = true;
+             m.sequence = w.sequence;
+             for (const link::WireSphere& s : w.spheres) {
+               m.geometry.push_back({{s.x, s.y, s.z}, s.radius});
+               m.surfaces.push_back({s.material, s.albedo, s.fuzz, s.ior});
+             }
+             ref.accepted.push_back(std::move(m));
+             ref.accepted_bytes.push_back(link::kV2HeaderBytes + w.spheres.size() * link::kV2SphereBytes +
+                                          link::kV2TrailerBytes);
+           },
+       .on_error =
+           [&](const link::V2Failure& f, std::size_t) {
+             if (f.error == link::V2Error::kBadMagic) {
+               ++ref.garbage_runs;
+             } else {
+               ++ref.rejected;
+             }
+           }});
+  decoder.push(bytes);
+  decoder.end_of_stream();
+  return ref;
+}
+
+// The rule for v1: the word's s.3 fields rescaled to the preset's fractional bits, radius 2^r, all inside
+// the preset's formats; the colour's nibbles as 8-bit albedo, lambertian, ior 1.5.
+Reference reference_v1(std::span<const std::uint8_t> bytes, const device::DevicePreset& p) {
+  Reference ref;
+  const int f = p.frac_bits();
+  for (std::size_t at = 0; at + link::kV1WordBytes <= bytes.size(); at += link::kV1WordBytes) {
+    std::uint64_t word = 0;
+    for (std::size_t i = 0; i < link::kV1WordBytes; ++i) word = (word << 8) | bytes[at + i];
+    const link::V1Sphere s = link::decode_v1_word(word);
+    const std::int64_t x = core::rescale_raw(s.x_raw, 3, f), y = core::rescale_raw(s.y_raw, 3, f),
+                       z = core::rescale_raw(s.z_raw, 3, f);
+    const int shift = s.radius_log2 + f;
+    if (shift > 62 || !p.radius.contains(std::int64_t{1} << shift) || !p.x.contains(x) || !p.y.contains(y) ||
+        !p.z.contains(z)) {
+      ++ref.rejected;
+      continue;
+    }
+    device::SceneMemory m;
+    m.valid = true;
+    m.sequence = static_cast<std::uint32_t>(ref.accepted.size() + 1);
+    m.geometry.push_back({{x, y, z}, std::int64_t{1} << shift});
+    const auto nibble = [&](int k) { return static_cast<std::uint8_t>(((s.colour >> k) & 0xF) * 17); };
+    m.surfaces.push_back({link::kMaterialLambertian, {nibble(8), nibble(4), nibble(0)}, 0, 6144});
+    ref.accepted.push_back(std::move(m));
+    ref.accepted_bytes.push_back(link::kV1WordBytes);
+  }
+  if (bytes.size() % link::kV1WordBytes != 0) ++ref.rejected;  // the partial word at the end of the stream
+  return ref;
+}
+
+bool same_memory(const device::SceneMemory& a, const device::SceneMemory& b) {
+  return a.valid == b.valid && a.sequence == b.sequence && a.geometry.size() == b.geometry.size() &&
+         a.surfaces == b.surfaces &&
+         std::equal(a.geometry.begin(), a.geometry.end(), b.geometry.begin(), [](const auto& s, const auto& t) {
+           return s.center.x == t.center.x && s.center.y == t.center.y && s.center.z == t.center.z &&
+                  s.radius == t.radius;
+         });
+}
+
+void check_front(const device::SceneMemory& m, const device::DevicePreset& p, link::WireVersion wire) {
+  FUZZ_CHECK(m.valid, "a swapped-in scene memory is not valid");
+  FUZZ_CHECK(m.geometry.size() == m.surfaces.size(), "geometry and surfaces differ in length");
+  FUZZ_CHECK(m.geometry.size() <= p.max_spheres, "more spheres than the preset's scene memory");
+  if (wire == link::WireVersion::kV1) FUZZ_CHECK(m.geometry.size() == 1, "a v1 world of other than one sphere");
+  for (std::size_t i = 0; i < m.geometry.size(); ++i) {
+    const auto& g = m.geometry[i];
+    const device::SurfaceWord& s = m.surfaces[i];
+    FUZZ_CHECK(p.x.contains(g.center.x) && p.y.contains(g.center.y) && p.z.contains(g.center.z),
+               "a centre outside the preset's formats");
+    FUZZ_CHECK(g.radius > 0 && p.radius.contains(g.radius), "a radius outside the preset's format or not above 0");
+    if (wire == link::WireVersion::kV1) FUZZ_CHECK((g.radius & (g.radius - 1)) == 0, "a v1 radius not a power of two");
+    FUZZ_CHECK(s.material <= link::kMaterialDielectric, "an unknown material in scene memory");
+    FUZZ_CHECK(s.ior > 0, "ior 0 in scene memory");
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 2) return 0;
+  const std::uint8_t config = data[0];
+  const std::size_t op_count = std::min<std::size_t>(data[1] % 16, size - 2);
+  const std::span<const std::uint8_t> ops(data + 2, op_count);
+  const link::WireVersion wire = (config & 1) ? link::WireVersion::kV1 : link::WireVersion::kV2;
+  std::vector<std::uint8_t> link_bytes(data + 2 + op_count, data + size);
+  if (wire == link::WireVersion::kV2 && !(config & 0x10)) tripsitter::fuzz::repair_v2_crcs(link_bytes);
+  const std::span<const std::uint8_t> bytes(link_bytes);
+
+  const device::DevicePreset preset = (config & 2) ? device::board_2023_preset() : device::wide_preset();
+  const std::size_t unit = std::size_t{1} << (2 * ((config >> 2) & 3));
+
+  const Reference ref = wire == link::WireVersion::kV1 ? reference_v1(bytes, preset) : reference_v2(bytes, preset);
+
+  device::Receiver receiver(preset, wire);
+  device::SceneMemory front;
+  std::uint64_t accepted_at_swap = 0;  // worlds accepted when the last swap happened
+  std::uint64_t swaps = 0;
+  const auto check_ready = [&] {
+    const std::uint64_t accepted = receiver.stats().worlds_accepted;
+    FUZZ_CHECK(receiver.ready() == (accepted == accepted_at_swap),
+               "ready() does not say whether an accepted world waits for the swap");
+    FUZZ_CHECK(receiver.stats().worlds_replaced == accepted - swaps - (receiver.ready() ? 0 : 1),
+               "worlds_replaced does not count the accepted worlds that were never swapped in");
+    FUZZ_CHECK(accepted <= ref.accepted.size(), "more worlds accepted than the reference accepts");
+  };
+  const auto blanking = [&] {
+    const bool was_ready = receiver.ready();
+    const bool swapped = receiver.swap_if_pending(front);
+    FUZZ_CHECK(swapped == !was_ready, "swap_if_pending() disagrees with the ready line");
+    FUZZ_CHECK(receiver.ready(), "the ready line is low after a vertical blanking");
+    if (!swapped) return;
+    ++swaps;
+    accepted_at_swap = receiver.stats().worlds_accepted;
+    check_front(front, preset, wire);
+    FUZZ_CHECK(accepted_at_swap >= 1 && same_memory(front, ref.accepted[accepted_at_swap - 1]),
+               "the swapped-in world is not the latest accepted world of the reference");
+  };
+
+  std::size_t at = 0, op = 0, idle_ops = 0;
+  while (at < bytes.size()) {
+    std::size_t n = bytes.size() - at;
+    bool blank = false;
+    if (!ops.empty()) {
+      const std::uint8_t o = ops[op++ % ops.size()];
+      n = std::min(n, (o & 0x7F) * unit);
+      blank = (o & 0x80) != 0;
+      // Only empty transfers: send the rest at once rather than loop for ever.
+      idle_ops = n == 0 ? idle_ops + 1 : 0;
+      if (idle_ops > ops.size()) n = bytes.size() - at;
+    }
+    receiver.receive(bytes.subspan(at, n));
+    at += n;
+    check_ready();
+    if (blank) blanking();
+  }
+  receiver.end_of_stream();
+  check_ready();
+  blanking();
+
+  const device::ReceiverStats& stats = receiver.stats();
+  FUZZ_CHECK(stats.worlds_accepted == ref.accepted.size(), "accepted worlds differ from the reference");
+  FUZZ_CHECK(stats.frames_rejected == ref.rejected, "rejected frames differ from the reference");
+  FUZZ_CHECK(stats.garbage_runs == ref.garbage_runs, "garbage runs differ from the reference");
+  FUZZ_CHECK(stats.frames_rejected == 0 || !stats.last_error.empty(), "a rejection without a reason");
+  std::uint64_t accepted_bytes = 0;
+  for (const std::size_t b : ref.accepted_bytes) accepted_bytes += b;
+  FUZZ_CHECK(accepted_bytes + stats.bytes_dropped == bytes.size(),
+             "link bytes lost: neither in an accepted world nor counted as dropped");
+  if (ref.accepted.empty()) FUZZ_CHECK(!front.valid, "a scene memory shown without any accepted world");
+  // Drawing costs far more than receiving: only the world shown last is drawn.
+  if (front.valid) tripsitter::fuzz::trace_some_pixels(front, preset);
+  return 0;
+}
