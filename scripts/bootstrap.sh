@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set-up on a fresh Debian machine: installs what is missing, builds, and runs one job.
 #   scripts/bootstrap.sh demo   build (release) and render the demo scene through the whole board model
-#   scripts/bootstrap.sh test   build and run the whole test suite (release, then address+undefined sanitizers)
+#   scripts/bootstrap.sh test   build and run the whole test suite: release, then under the address+undefined
+#                               sanitizers, then under the thread sanitizer
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -40,4 +41,6 @@ else
   ctest --preset release
   build asan
   ctest --preset asan
+  build tsan
+  ctest --preset tsan
 fi
