@@ -26,7 +26,11 @@ void push_key(SDL_Scancode sc, bool down, bool repeat = false) {
 
 class WindowTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { setenv("SDL_VIDEODRIVER", "offscreen", 1); }
+  static void SetUpTestSuite() {
+    setenv("SDL_VIDEODRIVER", "offscreen", 1);
+    // SDL's software renderer: no OpenGL, so no Mesa worker threads (which the thread sanitizer reports).
+    setenv("SDL_RENDER_DRIVER", "software", 1);
+  }
 };
 
 TEST_F(WindowTest, KeysBecomeBoardInput) {
