@@ -104,13 +104,6 @@ KernelHit<typename Arith::Wide> closest_hit(const Arith& arith, const KernelRay<
   return best;
 }
 
-// The camera's ray along d from the origin.
-template <class Arith>
-KernelHit<typename Arith::Wide> closest_hit(const Arith& arith, const Vec3<typename Arith::Wide>& d,
-                                            std::span<const KernelSphere<typename Arith::Coord>> spheres) {
-  return closest_hit(arith, KernelRay<typename Arith::Wide>{{}, d}, spheres);
-}
-
 // Normal-map colour of a hit (SPEC.md section B).
 template <class Arith>
 Rgb444 normal_colour(const KernelRay<typename Arith::Wide>& ray, const KernelSphere<typename Arith::Coord>& s,
@@ -125,12 +118,6 @@ Rgb444 normal_colour(const KernelRay<typename Arith::Wide>& ray, const KernelSph
     ch[k] = std::clamp(Arith::floor_div(Wide(7) * n_num + Wide(7) * den, den), 0, 14);
   }
   return Rgb444::from_channels(ch[0], ch[1], ch[2]);
-}
-
-template <class Arith>
-Rgb444 normal_colour(const Vec3<typename Arith::Wide>& d, const KernelSphere<typename Arith::Coord>& s,
-                     typename Arith::Wide num) {
-  return normal_colour<Arith>(KernelRay<typename Arith::Wide>{{}, d}, s, num);
 }
 
 // The ray reflected off sphere s, which `ray` hits with `num` (from closest_hit).
@@ -185,15 +172,6 @@ PixelTrace trace_pixel(const Arith& arith, const Vec3<typename Arith::Wide>& d,
   std::array<int, 3> mixed{};
   for (std::size_t k = 0; k < 3; ++k) mixed[k] = std::clamp(Arith::floor_div(Wide(channels[k]) * tint[k], tint_scale), 0, 15);
   return {Rgb444::from_channels(mixed[0], mixed[1], mixed[2]), bounces};
-}
-
-// Normal-map shading of every sphere (no mirrors): the board's function.
-template <class Arith>
-Rgb444 normal_shade_pixel(const Arith& arith, const Vec3<typename Arith::Wide>& d,
-                          std::span<const KernelSphere<typename Arith::Coord>> spheres, Rgb444 background) {
-  const auto hit = closest_hit(arith, d, spheres);
-  if (hit.index < 0) return background;
-  return normal_colour<Arith>(d, spheres[static_cast<std::size_t>(hit.index)], hit.num);
 }
 
 }  // namespace tripsitter::core

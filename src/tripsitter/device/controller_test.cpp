@@ -112,8 +112,12 @@ TEST(Mirror, ZeroBouncesShadeMetalsAsTheBoardDid) {
     for (int col = 0; col < 640; col += 3) {
       const core::PixelTrace t = w.trace(col, row, m);
       ASSERT_EQ(t.bounces, 0);
-      ASSERT_EQ(t.colour, core::normal_shade_pixel(arith, device_ray(col, row), spheres, core::kBackground));
-      const auto hit = core::closest_hit(arith, device_ray(col, row), spheres);
+      // Plain normal-map shading of the closest hit, metals included.
+      const core::KernelRay<core::Int128> ray{{}, device_ray(col, row)};
+      const auto hit = core::closest_hit(arith, ray, spheres);
+      ASSERT_EQ(t.colour, hit.index < 0 ? core::kBackground
+                                        : core::normal_colour<FixedArith>(
+                                              ray, spheres[static_cast<std::size_t>(hit.index)], hit.num));
       metal_pixels += hit.index >= 0 && m.surfaces[static_cast<std::size_t>(hit.index)].material == kMetal;
     }
   EXPECT_GT(metal_pixels, 1000);
