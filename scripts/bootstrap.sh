@@ -13,7 +13,11 @@ case "$job" in
 esac
 
 packages=(g++ cmake make pkg-config libpng-dev nlohmann-json3-dev libcli11-dev libsdl2-dev libsdl2-ttf-dev
-          fonts-dejavu-core libgtest-dev libbenchmark-dev)
+          fonts-dejavu-core libgtest-dev libbenchmark-dev
+          libembree-dev               # optional: bench compares primary rays with Embree
+          libopenmpi-dev openmpi-bin  # optional: render --mpi across ranks
+          clang-14 libclang-rt-14-dev # test job: the libFuzzer targets
+)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

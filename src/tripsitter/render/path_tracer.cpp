@@ -59,12 +59,12 @@ Vec3f trace_path(const PathScene& scene, Ray ray, int max_depth, const Sky& sky,
   return {0, 0, 0};
 }
 
-ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
-                      const std::function<void(std::uint64_t)>& on_samples) {
-  ImageRgbF image{settings.width, settings.height,
-                  std::vector<Vec3f>(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height))};
+void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings, int first,
+                      int step, ImageRgbF& image, const std::function<void(std::uint64_t)>& on_samples) {
+  const int rows = first < settings.height ? (settings.height - first + step - 1) / step : 0;
   const float inv_spp = 1.0f / static_cast<float>(settings.spp);
-  core::parallel_for(0, settings.height, settings.threads, [&](int row) {
+  core::parallel_for(0, rows, settings.threads, [&](int k) {
+    const int row = first + k * step;
     for (int col = 0; col < settings.width; ++col) {
       const std::uint64_t index = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(settings.width) +
                                   static_cast<std::uint64_t>(col);
@@ -76,6 +76,13 @@ ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, cons
     }
     if (on_samples) on_samples(static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp));
   });
+}
+
+ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
+                      const std::function<void(std::uint64_t)>& on_samples) {
+  ImageRgbF image{settings.width, settings.height,
+                  std::vector<Vec3f>(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height))};
+  render_path_rows(scene, camera, settings, 0, 1, image, on_samples);
   return image;
 }
 

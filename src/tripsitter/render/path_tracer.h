@@ -73,6 +73,12 @@ Vec3f trace_path(const PathScene& scene, Ray ray, int max_depth, const Sky& sky,
 ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
                       const std::function<void(std::uint64_t)>& on_samples = {});
 
+// Renders only rows first, first + step, first + 2 step, ... of the image into `image` (sized width x height;
+// other rows are left as they are). Every pixel gets exactly the value render_path gives it, whatever the
+// split: a job can share an image's rows among processes. REQUIRES 0 <= first, step >= 1.
+void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings, int first,
+                      int step, ImageRgbF& image, const std::function<void(std::uint64_t)>& on_samples = {});
+
 // The IEC 61966-2-1 sRGB transfer function of a linear value clamped to [0, 1], to 8 bits.
 std::uint8_t srgb_encode(float linear);
 core::ImageRgb8 to_srgb8(const ImageRgbF& image);

@@ -152,6 +152,28 @@ TEST(PathTracer, SameSeedSameBytesOnOneAndTwoThreads) {
   EXPECT_NE(to_srgb8(render_path(scene, cam, s)), two);
 }
 
+TEST(PathTracer, RowsSharedInAnyStepGiveTheWholeImagesValues) {
+  scene::Scene field = *scene::builtin("field");
+  const PathScene scene(field.spheres);
+  const ThinLensCamera cam(field.camera, 40, 23);
+  const PathSettings s{.width = 40, .height = 23, .spp = 2, .max_depth = 50, .seed = 5, .threads = 1, .sky = {}};
+  const ImageRgbF whole = render_path(scene, cam, s);
+  for (int step : {1, 2, 3, 4, 30}) {
+    ImageRgbF parts{40, 23, std::vector<Vec3f>(40 * 23, Vec3f{-1, -1, -1})};
+    for (int first = 0; first < step; ++first) render_path_rows(scene, cam, s, first, step, parts);
+    for (std::size_t i = 0; i < whole.pixels.size(); ++i) {
+      ASSERT_EQ(parts.pixels[i].x, whole.pixels[i].x) << "step " << step << " pixel " << i;
+      ASSERT_EQ(parts.pixels[i].y, whole.pixels[i].y) << "step " << step << " pixel " << i;
+      ASSERT_EQ(parts.pixels[i].z, whole.pixels[i].z) << "step " << step << " pixel " << i;
+    }
+  }
+  // Rows of one share leave the others untouched.
+  ImageRgbF one_share{40, 23, std::vector<Vec3f>(40 * 23, Vec3f{-1, -1, -1})};
+  render_path_rows(scene, cam, s, 1, 2, one_share);
+  EXPECT_EQ(one_share.pixels[0].x, -1.0f);
+  EXPECT_EQ(one_share.pixels[40].x, whole.pixels[40].x);
+}
+
 TEST(PathTracer, ProgressCountsEverySample) {
   const std::vector<scene::Sphere> spheres{sphere({0, 0, 0}, 1, lambertian(0.5))};
   std::atomic<std::uint64_t> samples{0};
