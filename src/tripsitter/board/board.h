@@ -20,6 +20,7 @@ struct BoardConfig {
   device::DevicePreset preset = device::wide_preset();
   link::WireVersion wire = link::WireVersion::kV2;
   link::SpiConfig spi;
+  int device_threads = 0;  // threads the device model computes a frame's lines on (Device's `threads`)
 };
 
 // What one shown frame cost and reported.
