@@ -20,8 +20,9 @@
 //   - a worker draws the last one without harm (no assertion, no overflow) at a few pixels: the corners,
 //     the centre and where the first spheres' centres project, with up to core::kMaxBounces mirror bounces
 //     (any world inside the formats must be drawable; docs/device.md bounds the intermediates);
-// and at the end: the counts of accepted, rejected and garbage match the reference, and every link byte is
-// either in an accepted world or counted as dropped.
+// and at the end: the counts of accepted, rejected, garbage and missing worlds (sequence numbers skipped
+// between accepted worlds; none on v1) match the reference, and every link byte is either in an accepted
+// world or counted as dropped.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -51,6 +52,7 @@ struct Reference {
   std::vector<std::size_t> accepted_bytes;
   std::uint64_t rejected = 0;
   std::uint64_t garbage_runs = 0;
+  std::uint64_t missing = 0;  // v2: sequence numbers skipped between accepted worlds
 };
 
 // The receiver's acceptance rule for v2 (receiver.h, docs/device.md): the preset's fractional bits, every
@@ -69,6 +71,8 @@ Reference reference_v2(std::span<const std::uint8_t> bytes, const device::Device
                ++ref.rejected;
                return;
              }
+             if (!ref.accepted.empty() && w.sequence > ref.accepted.back().sequence)
+               ref.missing += w.sequence - ref.accepted.back().sequence - 1;
              device::SceneMemory m;
              m.valid = true;
              m.sequence = w.sequence;
@@ -216,6 +220,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   FUZZ_CHECK(stats.worlds_accepted == ref.accepted.size(), "accepted worlds differ from the reference");
   FUZZ_CHECK(stats.frames_rejected == ref.rejected, "rejected frames differ from the reference");
   FUZZ_CHECK(stats.garbage_runs == ref.garbage_runs, "garbage runs differ from the reference");
+  FUZZ_CHECK(stats.worlds_missing == ref.missing, "missing worlds differ from the reference");
   FUZZ_CHECK(stats.frames_rejected == 0 || !stats.last_error.empty(), "a rejection without a reason");
   std::uint64_t accepted_bytes = 0;
   for (const std::size_t b : ref.accepted_bytes) accepted_bytes += b;

@@ -7,16 +7,17 @@
 //
 // How a run goes. Worlds come from a host::Host (random_spheres, 1 to 64 of them, with random camera
 // moves) or are synthesised directly as link::World (1 to 64 spheres anywhere in the preset's formats,
-// extremes included), with sequence numbers unique within the run; every sent world is kept, keyed by its
-// sequence. Each world goes through a real SpiLink (a random transfer size per world, 1 byte to 4 KiB),
+// extremes included), numbered 1, 2, 3, ... in the order they are sent, as a host numbers its worlds; every
+// sent world is kept, keyed by its sequence. Each world goes through a real SpiLink (a random transfer size per world, 1 byte to 4 KiB),
 // whose transfers are then damaged or not on their way to the device. The bulk of the worlds goes to a
 // device::Receiver, with swap_if_pending as vertical blanking after each world; a device::Device fed the
 // very same bytes draws a real frame every 1000th world, which is compared with the world that should be
 // on screen (its scene memory exactly, its frame statistics, and its pixels against a fresh Device that
 // was given only that world).
 //
-// A run is a chain of episodes: 0 to 2 intact worlds, one damage event, then intact worlds until the
-// device shows the latest of them. The number of intact worlds this takes is the event's *recovery*.
+// A run begins with one intact world, and goes on as a chain of episodes: 0 to 2 intact worlds, one damage
+// event, then intact worlds until the device shows the latest of them. The number of intact worlds this
+// takes is the event's *recovery*.
 //
 // What is checked:
 //   1. Nothing crashes, and every world swapped into scene memory equals exactly one sent world: sequence,
@@ -39,6 +40,13 @@
 //      a garbage run). Intact worlds are never lost: one that a bogus header swallowed as payload is
 //      delivered once that header's CRC has failed (if several arrive before a blanking, the newest is
 //      shown and the others count as replaced).
+//      And the worlds: the receiver's worlds_missing (sequence numbers skipped between accepted worlds,
+//      docs/link_format.md "What the receiver counts") moves by exactly the number of damaged worlds lost,
+//      in every episode: 1 for a damaged world that did not arrive, 0 for one delivered anyway and for noise.
+//      This is exact here because the harness sends every world it numbers, one at a time, and every
+//      episode ends with an accepted world, whose sequence number reveals the gap; the world that starts the
+//      run gives the receiver its first sequence number. (A device can count a lost world only once a later
+//      world arrives: the last world before a host goes for good is in frames_rejected alone.)
 //   3. The device recovers, and the test says how fast (std::cout): after each event, how many intact
 //      worlds until the latest one is on screen; the model predicts each figure exactly and the test
 //      asserts that it does. Recovery is 1 (the very next intact world is shown) whenever the world's own
@@ -122,8 +130,8 @@ std::size_t frame_bytes_for(std::size_t spheres) {
   return link::kV2HeaderBytes + spheres * link::kV2SphereBytes + link::kV2TrailerBytes;
 }
 
-// Worlds as a host makes them, with sequence numbers unique within a run: the host's own (1, 2, ...) and,
-// for synthesised worlds, from 2^31 up.
+// Worlds as a host sends them, numbered 1, 2, 3, ... whichever way they were made (the host's own frames
+// are renumbered: its numbers count its updates, and half of the worlds do not come from it).
 class WorldSource {
  public:
   WorldSource(const device::DevicePreset& preset, int host_spheres, std::uint64_t seed)
@@ -146,10 +154,11 @@ class WorldSource {
       default: break;  // the camera holds still: the same view again, under a new sequence number
     }
     SentWorld w;
-    w.frame = host_.update().bytes;
-    auto decoded = link::decode_v2_frame(w.frame, preset_.max_spheres);
+    auto decoded = link::decode_v2_frame(host_.update().bytes, preset_.max_spheres);
     EXPECT_TRUE(decoded.ok()) << "the host made a frame its own device rejects";
     if (decoded.ok()) w.world = std::move(decoded).value();
+    w.world.sequence = next_sequence_++;
+    w.frame = link::encode_v2_frame(w.world);
     return w;
   }
 
@@ -164,7 +173,7 @@ class WorldSource {
 
   SentWorld synthesised() {
     link::World w;
-    w.sequence = next_synthesised_++;
+    w.sequence = next_sequence_++;
     w.frac_bits = static_cast<std::uint8_t>(preset_.frac_bits());
     const auto count = static_cast<std::size_t>(rng_.between(1, kMaxSpheresPerWorld));
     for (std::size_t i = 0; i < count; ++i) {
@@ -188,7 +197,7 @@ class WorldSource {
   device::DevicePreset preset_;
   Rng rng_;
   host::Host host_;
-  std::uint32_t next_synthesised_ = 0x8000'0000u;
+  std::uint32_t next_sequence_ = 1;
 };
 
 // Whether scene memory holds exactly this world.
@@ -391,6 +400,7 @@ struct Event {
 
 struct Tally {
   std::uint64_t events = 0, lost = 0, delivered_anyway = 0;
+  std::uint64_t missing = 0;  // what the receiver's worlds_missing counted
   std::map<int, std::uint64_t> recovery;  // intact worlds needed -> events
   void add(int k) { ++recovery[k]; }
   int max() const { return recovery.empty() ? 0 : recovery.rbegin()->first; }
@@ -425,6 +435,7 @@ class Soak {
         shadow_(preset_, link::WireVersion::kV2) {}
 
   void run(int worlds) {
+    if (worlds_ == 0) start();
     while (worlds_ < worlds && !::testing::Test::HasFatalFailure() && failures_ < 20) episode();
   }
 
@@ -432,16 +443,24 @@ class Soak {
     os << "[soak] " << name_of(damage_) << ", preset " << preset_.name << ": " << worlds_ << " worlds, "
        << renders_ << " frames drawn and compared, receiver " << rx_.stats().worlds_accepted << " accepted, "
        << rx_.stats().frames_rejected << " rejected, " << rx_.stats().garbage_runs << " garbage runs, "
-       << rx_.stats().bytes_dropped << " of " << bytes_fed_ << " bytes dropped\n";
+       << rx_.stats().bytes_dropped << " of " << bytes_fed_ << " bytes dropped; " << lost() << " worlds lost, "
+       << rx_.stats().worlds_missing << " counted missing\n";
     for (const auto& [variant, t] : tallies_) {
       os << "[soak]   " << std::left << std::setw(52) << variant << std::right << std::setw(6) << t.events
-         << " events, " << std::setw(5) << t.lost << " worlds lost, " << std::setw(5) << t.delivered_anyway
+         << " events, " << std::setw(5) << t.lost << " worlds lost (" << std::setw(5) << t.missing << " counted), "
+         << std::setw(5) << t.delivered_anyway
          << " delivered anyway; recovery max " << t.max() << ", mean " << std::fixed << std::setprecision(2)
          << t.mean() << std::defaultfloat << " (" << t.histogram() << ")\n";
     }
   }
 
   int worlds() const { return worlds_; }
+  std::uint64_t lost() const {
+    std::uint64_t n = 0;
+    for (const auto& [variant, t] : tallies_) n += t.lost;
+    return n;
+  }
+  std::uint64_t missing() const { return rx_.stats().worlds_missing; }
 
  private:
   // -- the wire --
@@ -692,6 +711,17 @@ class Soak {
 
   // -- episodes --
 
+  // The run's first world, intact: the receiver counts missing worlds from its first sequence number on.
+  void start() {
+    const SentWorld w = next_world();
+    send_intact(w);
+    vblank();
+    if (!front_.valid || front_.sequence != w.world.sequence) {
+      ADD_FAILURE() << "the run's first world was not shown at once";
+      ++failures_;
+    }
+  }
+
   struct Step {
     std::size_t fed_end = 0;
     std::optional<std::uint32_t> front;
@@ -845,6 +875,8 @@ class Soak {
     // report, and a rejected frame whenever its magic arrived first.
     Tally& t = tallies_[e.variant];
     ++t.events;
+    const std::uint64_t counted_missing = now.worlds_missing - before.worlds_missing;
+    t.missing += counted_missing;
     const std::uint64_t reports = (now.frames_rejected - before.frames_rejected) + (now.garbage_runs - before.garbage_runs);
     if (log.damaged) {
       const bool arrived = delivered(*log.damaged);
@@ -859,6 +891,10 @@ class Soak {
     } else if (reports == 0) {
       fail("noise was not counted");
     }
+    const std::uint64_t damaged_lost = log.damaged && !delivered(*log.damaged) ? 1 : 0;
+    if (counted_missing != damaged_lost)
+      fail(std::to_string(counted_missing) + " worlds counted missing, " + std::to_string(damaged_lost) +
+           " damaged worlds lost");
 
     // Recovery: once the stream has passed the end of every frame announced by a header inside the damage,
     // the next complete intact world is shown. So 1 when no such header announces more than came, and never
@@ -908,6 +944,7 @@ void soak(Damage damage) {
     s.run(kWorldsPerRun);
     s.report(std::cout);
     EXPECT_GE(s.worlds(), kWorldsPerRun);
+    EXPECT_EQ(s.missing(), s.lost()) << "every damaged world that was lost is counted as missing";
   }
 }
 

@@ -94,6 +94,8 @@ void Receiver::accept_v2(link::World&& world) {
     back_.geometry[i] = {{s.x, s.y, s.z}, s.radius};
     back_.surfaces[i] = {s.material, s.albedo, s.fuzz, s.ior};
   }
+  if (last_sequence_ && world.sequence > *last_sequence_) stats_.worlds_missing += world.sequence - *last_sequence_ - 1;
+  last_sequence_ = world.sequence;
   back_.sequence = world.sequence;
   back_.valid = true;
   if (pending_) ++stats_.worlds_replaced;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -22,6 +23,11 @@ struct ReceiverStats {
   std::uint64_t frames_rejected = 0;   // damaged or unacceptable frames (or v1 words) dropped
   std::uint64_t garbage_runs = 0;      // runs of bytes between frames that were no frame at all
   std::uint64_t bytes_dropped = 0;     // in both
+  // v2 only: sequence numbers skipped between consecutive accepted worlds, so worlds the host numbered that
+  // never reached scene memory: lost on the link, rejected, or replaced at the host before they went out.
+  // A sequence number at or below the previous accepted one (a repeat, a host that started again) skips
+  // nothing. docs/link_format.md, "What the receiver counts".
+  std::uint64_t worlds_missing = 0;
   std::string last_error;              // why the last frame was rejected
 };
 
@@ -53,6 +59,7 @@ class Receiver {
   SceneMemory back_;
   bool pending_ = false;
   std::uint32_t v1_words_ = 0;
+  std::optional<std::uint32_t> last_sequence_;  // of the last accepted v2 world
   ReceiverStats stats_;
 };
 

@@ -112,5 +112,55 @@ TEST(Receiver, HostGoingAwayMidFrameIsCounted) {
   EXPECT_FALSE(rx.ready());
 }
 
+TEST(Receiver, SkippedSequenceNumbersCountMissingWorlds) {
+  const DevicePreset p = wide_preset();
+  Receiver rx(p, link::WireVersion::kV2);
+  rx.receive(frame_of(p, 100, {{0, 0, 400, 64}}));
+  EXPECT_EQ(rx.stats().worlds_missing, 0u);  // the first world only sets where counting starts
+  auto damaged = frame_of(p, 101, {{10, 0, 400, 64}});
+  damaged[25] ^= 0x01;
+  rx.receive(damaged);
+  rx.receive(frame_of(p, 102, {{20, 0, 400, 64}}));
+  EXPECT_EQ(rx.stats().frames_rejected, 1u);
+  EXPECT_EQ(rx.stats().worlds_missing, 1u);  // world 101
+  rx.receive(frame_of(p, 106, {{30, 0, 400, 64}}));
+  EXPECT_EQ(rx.stats().worlds_missing, 4u);  // and 103 to 105, which never came at all
+}
+
+TEST(Receiver, AWorldRejectedUnderAGoodCrcIsMissing) {
+  const DevicePreset p = board_2023_preset();
+  Receiver rx(p, link::WireVersion::kV2);
+  rx.receive(frame_of(p, 1, {{0, 0, 400, 64}}));
+  rx.receive(frame_of(wide_preset(), 2, {{0, 0, 400, 64}}));  // another format
+  rx.receive(frame_of(p, 3, {{0, 0, 400, 64}}));
+  EXPECT_EQ(rx.stats().frames_rejected, 1u);
+  EXPECT_EQ(rx.stats().worlds_missing, 1u);
+}
+
+TEST(Receiver, ARepeatOrAHostStartingAgainSkipsNothing) {
+  const DevicePreset p = wide_preset();
+  Receiver rx(p, link::WireVersion::kV2);
+  for (const std::uint32_t sequence : {5u, 5u, 1u, 2u}) rx.receive(frame_of(p, sequence, {{0, 0, 400, 64}}));
+  EXPECT_EQ(rx.stats().worlds_accepted, 4u);
+  EXPECT_EQ(rx.stats().worlds_missing, 0u);
+  rx.receive(frame_of(p, 4, {{0, 0, 400, 64}}));  // counted from the new host's world 2
+  EXPECT_EQ(rx.stats().worlds_missing, 1u);
+}
+
+TEST(Receiver, V1CountsNoMissingWorlds) {
+  const DevicePreset p = board_2023_preset();
+  Receiver rx(p, link::WireVersion::kV1);
+  const auto word = link::encode_v1_word({.x_raw = 0, .y_raw = 0, .z_raw = 3200, .radius_log2 = 3, .colour = 0xFFF});
+  std::vector<std::uint8_t> bytes;
+  link::append_v1_bytes(word, bytes);
+  rx.receive(bytes);
+  rx.receive(std::span<const std::uint8_t>(bytes).first(5));
+  rx.end_of_stream();
+  rx.receive(bytes);
+  EXPECT_EQ(rx.stats().worlds_accepted, 2u);
+  EXPECT_EQ(rx.stats().frames_rejected, 1u);
+  EXPECT_EQ(rx.stats().worlds_missing, 0u);  // v1 words carry no sequence number
+}
+
 }  // namespace
 }  // namespace tripsitter::device
