@@ -1,16 +1,33 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (the "fuzz" preset: clang, address and undefined-behaviour sanitizers) and
-# runs each one for N seconds (default 20) from its seed corpus, after replaying its saved regressions.
-# Prints each target's executions and coverage; exits 1 if any target crashed, failed an invariant, leaked
-# or hung (the reproducer is then in build/fuzz/artifacts/<target>/). See fuzz/README.md.
-#   scripts/fuzz.sh [SECONDS] [TARGET...]      targets: wire_v1 wire_v2 receiver scene_json key_script
+# Builds the libFuzzer targets (the "fuzz" preset: clang, address and undefined-behaviour sanitizers),
+# replays each target's saved regressions, then fuzzes it from its seed corpus. Prints each target's
+# executions and coverage; exits 1 if any target crashed, failed an invariant, leaked or hung (the
+# reproducer is then in <build>/artifacts/<target>/). See fuzz/README.md.
+#
+#   scripts/fuzz.sh [SECONDS] [TARGET...]   explore: SECONDS (default 20) per target, a random seed, and a
+#                                           working corpus kept in <build>/corpus/<target> from run to run
+#   scripts/fuzz.sh --ci RUNS [TARGET...]   CI: exactly RUNS executions per target (seed inputs included),
+#                                           seed 1, starting from the seeds alone, no corpus reloads: the
+#                                           bound is work, not time, so a slow machine does the same runs
+#   targets: wire_v1 wire_v2 receiver scene_json key_script
+#   FUZZ_BUILD_DIR=DIR builds in DIR instead of the preset's build/fuzz.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-seconds=${1:-20}
+usage() {
+  echo "usage: $0 [SECONDS] [TARGET...]  or  $0 --ci RUNS [TARGET...]" >&2
+  exit 2
+}
+ci=0
+if [ "${1:-}" = --ci ]; then
+  ci=1
+  shift
+  [ $# -ge 1 ] || usage
+fi
+amount=${1:-20}
 shift || true
-case "$seconds" in
-  ''|*[!0-9]*) echo "usage: $0 [SECONDS] [TARGET...]" >&2; exit 2 ;;
+case "$amount" in
+  ''|*[!0-9]*) usage ;;
 esac
 targets=("$@")
 ((${#targets[@]})) || targets=(wire_v1 wire_v2 receiver scene_json key_script)
@@ -20,12 +37,12 @@ if ! command -v clang++-14 >/dev/null; then
   exit 2
 fi
 
+root=${FUZZ_BUILD_DIR:-build/fuzz}
 start=$SECONDS
-cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz -j "$(nproc)" >/dev/null
+cmake --preset fuzz -B "$root" >/dev/null
+cmake --build "$root" --target fuzzers -j "$(nproc)" >/dev/null
 echo "build: $((SECONDS - start)) s"
 
-root=build/fuzz
 bin=$root/fuzz
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
@@ -34,8 +51,18 @@ failed=()
 for t in "${targets[@]}"; do
   exe=$bin/${t}_fuzz
   [ -x "$exe" ] || { echo "$t: no such target ($exe)" >&2; exit 2; }
-  work=$root/corpus/$t artifacts=$root/artifacts/$t/ log=$root/logs/$t.log
-  mkdir -p "$work" "$artifacts" "$(dirname "$log")"
+  artifacts=$root/artifacts/$t/ log=$root/logs/$t.log
+  mkdir -p "$artifacts" "$(dirname "$log")"
+  if ((ci)); then
+    # A fresh working corpus: what earlier runs found must not change what this one does.
+    work=$root/corpus-ci/$t
+    rm -rf "$work"
+    bound=(-runs="$amount" -seed=1 -reload=0)
+  else
+    work=$root/corpus/$t
+    bound=(-max_total_time="$amount")
+  fi
+  mkdir -p "$work"
 
   # Every saved reproducer must run clean (libFuzzer runs files given by name once each).
   mapfile -t regressions < <(find "fuzz/regressions/$t" -type f 2>/dev/null | sort)
@@ -47,18 +74,21 @@ for t in "${targets[@]}"; do
     fi
   fi
 
+  # The seeds are read and replayed first (libFuzzer writes new inputs to the first directory only).
   dict=()
   [ -f "fuzz/dict/$t.dict" ] && dict=(-dict="fuzz/dict/$t.dict")
   status=0
-  "$exe" "$work" "fuzz/corpus/$t" "${dict[@]}" -max_total_time="$seconds" -timeout=25 -print_final_stats=1 \
+  t0=$SECONDS
+  "$exe" "$work" "fuzz/corpus/$t" "${dict[@]}" "${bound[@]}" -timeout=25 -print_final_stats=1 \
     -artifact_prefix="$artifacts" > "$log" 2>&1 || status=$?
   done_line=$(grep -E "^#[0-9]+[[:space:]]+DONE" "$log" | tail -n 1 || true)
   rate=$(grep -E "^stat::average_exec_per_sec" "$log" | awk '{print $2}' || true)
   if [ "$status" -eq 0 ]; then
-    echo "$t: ${done_line:-no DONE line} (average exec/s: ${rate:-?}; regression inputs: ${#regressions[@]})"
+    echo "$t: ${done_line:-no DONE line} ($((SECONDS - t0)) s, average exec/s: ${rate:-?}; regression inputs: ${#regressions[@]})"
   else
     echo "$t: CRASHED (exit $status; log: $log)"
     grep -E "invariant failed|ERROR:|SUMMARY:|Test unit written|^ +#[0-9]+ 0x" "$log" | head -n 14 | sed 's/^/  /'
+    ((ci)) && echo "  the same run again: rm -rf $work; mkdir $work; $exe $work fuzz/corpus/$t ${dict[*]} ${bound[*]}"
     [[ " ${failed[*]} " == *" $t "* ]] || failed+=("$t")
   fi
 done
