@@ -139,12 +139,15 @@ KernelRay<typename Arith::Wide> reflect(const KernelRay<typename Arith::Wide>& r
   return {p, Arith::scale_direction(r)};
 }
 
-// The colour of the camera's ray along d in the mirror model. surface_of(i) gives sphere i's KernelSurface.
+// The colour of the camera's ray along d in the mirror model, with the closest-hit search supplied:
+// closest(ray, excluded, pass) must return closest_hit(arith, ray, spheres, excluded) for an Arith of this
+// Wide, where pass is 0 for the camera's ray and k after k reflections. surface_of(i) gives sphere i's
+// KernelSurface. (The device's fast model supplies exact shortcuts; trace_pixel below the plain search.)
 // REQUIRES 0 <= max_bounces <= kMaxBounces.
-template <class Arith, class SurfaceOf>
-PixelTrace trace_pixel(const Arith& arith, const Vec3<typename Arith::Wide>& d,
-                       std::span<const KernelSphere<typename Arith::Coord>> spheres, const SurfaceOf& surface_of,
-                       Rgb444 background, int max_bounces) {
+template <class Arith, class SurfaceOf, class ClosestHit>
+PixelTrace trace_pixel_with(const Vec3<typename Arith::Wide>& d,
+                            std::span<const KernelSphere<typename Arith::Coord>> spheres, const SurfaceOf& surface_of,
+                            Rgb444 background, int max_bounces, const ClosestHit& closest) {
   using Wide = typename Arith::Wide;
   KernelRay<Wide> ray{{}, d};
   int excluded = -1;
@@ -153,7 +156,7 @@ PixelTrace trace_pixel(const Arith& arith, const Vec3<typename Arith::Wide>& d,
   Wide tint_scale(1);                                  // 255^bounces
   Rgb444 base = background;
   while (true) {
-    const auto hit = closest_hit(arith, ray, spheres, excluded);
+    const KernelHit<Wide> hit = closest(ray, excluded, bounces);
     if (hit.index < 0) break;
     const auto& s = spheres[static_cast<std::size_t>(hit.index)];
     const KernelSurface surface = surface_of(hit.index);
@@ -172,6 +175,18 @@ PixelTrace trace_pixel(const Arith& arith, const Vec3<typename Arith::Wide>& d,
   std::array<int, 3> mixed{};
   for (std::size_t k = 0; k < 3; ++k) mixed[k] = std::clamp(Arith::floor_div(Wide(channels[k]) * tint[k], tint_scale), 0, 15);
   return {Rgb444::from_channels(mixed[0], mixed[1], mixed[2]), bounces};
+}
+
+// The colour of the camera's ray along d in the mirror model. surface_of(i) gives sphere i's KernelSurface.
+// REQUIRES 0 <= max_bounces <= kMaxBounces.
+template <class Arith, class SurfaceOf>
+PixelTrace trace_pixel(const Arith& arith, const Vec3<typename Arith::Wide>& d,
+                       std::span<const KernelSphere<typename Arith::Coord>> spheres, const SurfaceOf& surface_of,
+                       Rgb444 background, int max_bounces) {
+  return trace_pixel_with<Arith>(d, spheres, surface_of, background, max_bounces,
+                                 [&](const KernelRay<typename Arith::Wide>& ray, int excluded, int) {
+                                   return closest_hit(arith, ray, spheres, excluded);
+                                 });
 }
 
 }  // namespace tripsitter::core

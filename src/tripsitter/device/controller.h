@@ -20,14 +20,45 @@ struct LineResult {
   int reflections = 0;  // reflections traced for the pixels that were on time
 };
 
+// The controller's schedule of one line, whatever computes the pixels: trace(col) returns the
+// core::PixelTrace of column col (its colour and bounce count), and is called in each worker's order for
+// the pixels that start on time only. Each worker clears a pixel's slot when it starts it, so late pixels
+// are black. A worker's pixel k is ready after the occupancies of its pixels 0..k (each from its own bounce
+// count) plus the drain (DevicePreset::pixel_occupancy); it is late when that exceeds the lead time, and
+// so are all the worker's later pixels.
+template <class Trace>
+LineResult schedule_line(const DevicePreset& preset, std::int64_t spheres, std::span<core::Rgb444> line,
+                         const Trace& trace) {
+  LineResult result;
+  const std::int64_t drain = preset.drain_cycles();
+  for (int w = 0; w < preset.workers; ++w) {
+    std::int64_t busy = 0;  // cycles from the start of the line until the worker may start its next pixel
+    bool late = false;      // once one pixel is late, every later pixel of the worker is too
+    for (int col = w; col < kLineWidth; col += preset.workers) {
+      core::Rgb444& slot = line[static_cast<std::size_t>(col)];
+      if (!late) {
+        const core::PixelTrace t = trace(col);
+        busy += preset.pixel_occupancy(spheres, t.bounces);
+        late = busy + drain > preset.lead_cycles;
+        if (!late) {
+          slot = t.colour;
+          result.reflections += t.bounces;
+          continue;
+        }
+      }
+      slot = core::kBlack;
+      ++result.late_pixels;
+    }
+  }
+  return result;
+}
+
 class Controller {
  public:
   explicit Controller(const DevicePreset& preset);
 
-  // Fills `line` (640 pixels) with row `row` of the image of `scene`. Each worker clears a pixel's slot
-  // when it starts it, so late pixels are black. A worker's pixel k is ready after the occupancies of its
-  // pixels 0..k (each from its own bounce count) plus the drain (DevicePreset::pixel_occupancy); it is
-  // late when that exceeds the lead time, and so are all the worker's later pixels.
+  // Fills `line` (640 pixels) with row `row` of the image of `scene`: the worker's pixels on
+  // schedule_line's schedule.
   LineResult render_line(int row, const SceneMemory& scene, std::span<core::Rgb444> line) const;
 
   // How many pixels each worker finishes within the lead time, with `spheres` spheres, when no pixel

@@ -15,7 +15,7 @@ DevicePreset checked(const DevicePreset& preset) {
 }  // namespace
 
 Device::Device(const DevicePreset& preset, link::WireVersion wire, int threads)
-    : preset_(checked(preset)), receiver_(preset_, wire), controller_(preset_), threads_(threads) {
+    : preset_(checked(preset)), receiver_(preset_, wire), controller_(preset_), fast_(preset_), threads_(threads) {
   // Out of reset at the start of vertical blanking.
   while (vga_.line() != vga_.mode().v_visible) vga_.tick();
 }
@@ -51,9 +51,10 @@ void Device::compute_frame_lines() {
   const int lines = vga_.mode().v_visible;
   frame_lines_.resize(static_cast<std::size_t>(lines));
   frame_late_.resize(static_cast<std::size_t>(lines));
+  fast_.load(scene_);
   core::parallel_for(0, lines, threads_, [&](int row) {
     frame_late_[static_cast<std::size_t>(row)] =
-        controller_.render_line(row, scene_, frame_lines_[static_cast<std::size_t>(row)]).late_pixels;
+        fast_.render_line(row, frame_lines_[static_cast<std::size_t>(row)]).late_pixels;
   });
 }
 
@@ -69,11 +70,23 @@ VgaSample Device::tick() {
   return s;
 }
 
+// Line by line, the same samples tick() would give: syncs from the counters, colours from the front
+// buffer, the buffers swapping at each line's end.
 FrameStats Device::run_frame(const std::function<void(const VgaSample&)>& sink) {
-  if (vga_.line() != vga_.mode().v_visible || vga_.column() != 0)
+  const VgaMode& mode = vga_.mode();
+  if (vga_.line() != mode.v_visible || vga_.column() != 0)
     throw std::logic_error("run_frame: the device is not at the start of vertical blanking");
-  const int clocks = vga_.mode().h_total() * vga_.mode().v_total();
-  for (int i = 0; i < clocks; ++i) sink(tick());
+  for (int i = 0; i < mode.v_total(); ++i) {
+    const int line = vga_.line();
+    start_line(line);
+    const bool vsync_n = vga_.vsync_n();
+    const auto& front = line_buffers_[static_cast<std::size_t>(front_)];
+    const int shown = line < mode.v_visible ? mode.h_visible : 0;
+    for (int col = 0; col < mode.h_total(); ++col)
+      sink({vga_.hsync_n_at(col), vsync_n, col < shown ? front[static_cast<std::size_t>(col)] : core::kBlack});
+    front_ = 1 - front_;
+    vga_.tick_line();
+  }
   return building_;
 }
 

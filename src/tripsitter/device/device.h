@@ -15,6 +15,7 @@
 
 #include <tripsitter/core/rgb444.h>
 #include <tripsitter/device/controller.h>
+#include <tripsitter/device/fast_tracer.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/receiver.h>
 #include <tripsitter/device/scene_memory.h>
@@ -34,8 +35,9 @@ struct FrameStats {
 class Device : public link::Endpoint {
  public:
   // REQUIRES preset.validate() is empty. `threads` only changes how fast the model runs, never what it
-  // shows: 1 computes each line when the controller starts it (the plain model); any other value computes
-  // a frame's lines in parallel when its world is fixed, at the start of vertical blanking (0: all cores).
+  // shows: 1 computes each line when the controller starts it, pixel by pixel with Worker::trace (the
+  // plain model); any other value computes a frame's lines with the fast model (FastTracer) on that many
+  // threads (0: all cores) when its world is fixed, at the start of vertical blanking.
   Device(const DevicePreset& preset, link::WireVersion wire, int threads = 0);
 
   // link::Endpoint: the ready line and one SPI transfer.
@@ -65,6 +67,7 @@ class Device : public link::Endpoint {
   DevicePreset preset_;
   Receiver receiver_;
   Controller controller_;
+  FastTracer fast_;
   SceneMemory scene_;
   VgaTimingGenerator vga_;
   std::array<std::array<core::Rgb444, kLineWidth>, 2> line_buffers_{};

@@ -171,5 +171,55 @@ TEST(Device, ParallelFramesEqualThePlainModel) {
   }
 }
 
+// run_frame produces a frame line by line; tick() one clock at a time: the same samples, and the same
+// position afterwards.
+TEST(Device, RunFrameGivesTheSamplesOfTick) {
+  const DevicePreset p = board_2023_preset();
+  Device by_frame(p, link::WireVersion::kV2, 1), by_tick(p, link::WireVersion::kV2, 1);
+  for (int frame = 0; frame < 2; ++frame) {
+    const auto bytes = frame_of(p, static_cast<std::uint32_t>(frame + 1), {{0, 0, 400, 64}, {-100, 50, 300, 30}});
+    by_frame.transfer(bytes);
+    by_tick.transfer(bytes);
+    std::vector<VgaSample> a, b;
+    const FrameStats stats = by_frame.run_frame([&](const VgaSample& s) { a.push_back(s); });
+    for (int i = 0; i < 800 * 525; ++i) b.push_back(by_tick.tick());
+    ASSERT_EQ(a, b) << "frame " << frame;
+    EXPECT_EQ(stats.late_pixels, by_tick.current_frame().late_pixels);
+  }
+  EXPECT_NO_THROW(by_tick.run_frame([](const VgaSample&) {}));  // back at the start of vertical blanking
+}
+
+// The fast model (threads != 1) against the plain one, whole frames through the wire and the VGA signal,
+// with mirrors: the same pixels and the same late pixels and lines, frame after frame.
+TEST(Device, FastFramesWithMirrorsEqualThePlainModel) {
+  std::mt19937 rng(21);
+  for (const DevicePreset& p : {wide_preset(), board_2023_preset()}) {
+    Device plain(p, link::WireVersion::kV2, 1), fast(p, link::WireVersion::kV2, 2);
+    for (int world = 0; world < 3; ++world) {
+      std::vector<std::array<double, 4>> spheres;
+      std::vector<std::array<std::uint8_t, 3>> albedos;
+      std::uniform_real_distribution<double> xy(-300, 300), z(150, 1500), r(5, 120);
+      const int count = world == 2 ? 64 : 5 + world * 10;  // 64: late pixels on the wide preset too
+      for (int i = 0; i < count && i < static_cast<int>(p.max_spheres); ++i) {
+        spheres.push_back({xy(rng), xy(rng) / 2, z(rng) / 2, r(rng) / 2});
+        albedos.push_back({static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()), 255});
+      }
+      const auto bytes = metal_frame(p, static_cast<std::uint32_t>(world + 1), spheres, albedos);
+      plain.transfer(bytes);
+      fast.transfer(bytes);
+      FrameStats a, b;
+      ASSERT_EQ(visible_pixels(plain, &a), visible_pixels(fast, &b)) << p.name << " world " << world;
+      EXPECT_EQ(a.late_pixels, b.late_pixels);
+      EXPECT_EQ(a.late_lines, b.late_lines);
+      EXPECT_EQ(a.sequence, b.sequence);
+      if (world == 2) {
+        EXPECT_GT(a.late_lines, 0) << p.name;
+      }
+    }
+    EXPECT_EQ(plain.total_late_pixels(), fast.total_late_pixels());
+    EXPECT_EQ(plain.total_late_lines(), fast.total_late_lines());
+  }
+}
+
 }  // namespace
 }  // namespace tripsitter::device

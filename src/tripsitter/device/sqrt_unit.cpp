@@ -21,11 +21,8 @@ SqrtUnit::SqrtUnit(int iterations) : iterations_(iterations) {
 core::Int128 SqrtUnit::operator()(core::UInt128 input) const {
   if (input == 0) return 0;
   const int n = iterations_;
-  const int frac = 2 * n;                   // fractional bits of m and c
-  const int e = (bit_length(input) + 1) / 2;  // m = input / 4^e lies in [1/4, 1)
-  // m as an integer with `frac` fractional bits: input * 2^(frac - 2e), truncated.
-  const int shift = frac - 2 * e;
-  const auto m = static_cast<std::uint64_t>(shift >= 0 ? input << shift : input >> (-shift));
+  const Normalised in = normalise(input);
+  const std::uint64_t m = in.m;
 
   // x has n fractional bits, c = x^2 has 2n.
   std::uint64_t x = std::uint64_t{1} << (n - 1);        // 1/2
@@ -42,11 +39,7 @@ core::Int128 SqrtUnit::operator()(core::UInt128 input) const {
       x -= step;
     }
   }
-  // result = x * 2^(e - n), rounded to nearest.
-  const int out_shift = e - n;
-  if (out_shift >= 0) return static_cast<core::Int128>(x) << out_shift;
-  const int drop = -out_shift;
-  return static_cast<core::Int128>((x + (std::uint64_t{1} << (drop - 1))) >> drop);
+  return denormalise(x, in.e);
 }
 
 std::uint64_t exact_isqrt(core::UInt128 v) {

@@ -113,6 +113,43 @@ TEST(SqrtUnit, MoreIterationsNeverHurtOnAverage) {
   EXPECT_LT(err16, err8 / 100);
 }
 
+// The closed form (sqrt_unit.h) is the recurrence: for every register value m in [4^(N-1), 4^N) with
+// N <= 12 (inputs of 2N - 1 or 2N bits are their own register, unshifted), ...
+TEST(SqrtUnit, ClosedFormIsTheRecurrenceForEveryRegisterValueUpToTwelveIterations) {
+  for (int n = 1; n <= 12; ++n) {
+    const SqrtUnit unit(n);
+    for (std::uint64_t v = std::uint64_t{1} << (2 * n - 2); v < (std::uint64_t{1} << (2 * n)); ++v)
+      ASSERT_EQ(unit.closed_form(v), unit(v)) << "n=" << n << " v=" << v;
+  }
+}
+
+// ... for 16 iterations on both sides of every leaf boundary (2j)^2, where the binary search turns ...
+TEST(SqrtUnit, ClosedFormIsTheRecurrenceAtEveryLeafBoundaryForSixteenIterations) {
+  const SqrtUnit unit(16);
+  for (std::uint64_t j = std::uint64_t{1} << 14; j < (std::uint64_t{1} << 15); ++j) {
+    const std::uint64_t square = 4 * j * j;
+    for (std::uint64_t v : {square - 1, square, square + 1}) {
+      if (v < (std::uint64_t{1} << 30) || v >= (std::uint64_t{1} << 32)) continue;
+      ASSERT_EQ(unit.closed_form(v), unit(v)) << v;
+    }
+  }
+}
+
+// ... and on random inputs of every width for every iteration count (normalising shifts and truncation).
+TEST(SqrtUnit, ClosedFormIsTheRecurrenceOnRandomInputs) {
+  std::mt19937_64 rng(17);
+  for (int n = 1; n <= kMaxSqrtIterations; ++n) {
+    const SqrtUnit unit(n);
+    for (int i = 0; i < 20000; ++i) {
+      const int bits = 1 + static_cast<int>(rng() % 126);
+      const UInt128 v = (UInt128{rng()} << 64 | rng()) >> (128 - bits);
+      ASSERT_EQ(unit.closed_form(v), unit(v)) << "n=" << n << " bits=" << bits;
+    }
+    EXPECT_EQ(unit.closed_form(0), 0);
+    EXPECT_EQ(unit.closed_form((UInt128{1} << 126) - 1), unit((UInt128{1} << 126) - 1));
+  }
+}
+
 TEST(SqrtUnit, RejectsImpossibleIterationCounts) {
   EXPECT_THROW(SqrtUnit(0), std::invalid_argument);
   EXPECT_THROW(SqrtUnit(kMaxSqrtIterations + 1), std::invalid_argument);

@@ -2,12 +2,7 @@
 
 namespace tripsitter::device {
 
-// Each pulse starts after the visible area and the front porch, and lasts the sync width.
-bool VgaTimingGenerator::hsync_n() const {
-  const int start = mode_.h_visible + mode_.h_front_porch;
-  return !(h_ >= start && h_ < start + mode_.h_sync);
-}
-
+// Each pulse starts after the visible area and the front porch, and lasts the sync width (hsync_n_at in vga.h).
 bool VgaTimingGenerator::vsync_n() const {
   const int start = mode_.v_visible + mode_.v_front_porch;
   return !(v_ >= start && v_ < start + mode_.v_sync);
@@ -15,6 +10,11 @@ bool VgaTimingGenerator::vsync_n() const {
 
 VgaSample VgaTimingGenerator::sample(core::Rgb444 colour) const {
   return VgaSample{hsync_n(), vsync_n(), visible() ? colour : core::kBlack};
+}
+
+void VgaTimingGenerator::tick_line() {
+  if (++v_ < mode_.v_total()) return;
+  v_ = 0;
 }
 
 void VgaTimingGenerator::tick() {

@@ -30,17 +30,18 @@ struct FixedArith {
     assert(d >= 0 && d < (Wide{1} << 126));
     return sqrt_unit(static_cast<core::UInt128>(d));
   }
+  // Divisions take 64 bits when both operands fit (the same quotient, faster than a 128-bit division).
   static int floor_div(Wide n, Wide d) {
-    Wide q = n / d;
-    if (n % d != 0 && n < 0) --q;
+    Wide q = fits_64(n) && fits_64(d) ? Wide{static_cast<std::int64_t>(n) / static_cast<std::int64_t>(d)} : n / d;
+    if (n < 0 && q * d != n) --q;
     if (q > std::numeric_limits<int>::max()) return std::numeric_limits<int>::max();
     if (q < std::numeric_limits<int>::min()) return std::numeric_limits<int>::min();
     return static_cast<int>(q);
   }
   // n / d rounded to the nearest integer, ties away from zero. d > 0.
   static Wide round_div(Wide n, Wide d) {
-    const Wide q = n / d;
-    const Wide r = n % d;
+    const Wide q = fits_64(n) && fits_64(d) ? Wide{static_cast<std::int64_t>(n) / static_cast<std::int64_t>(d)} : n / d;
+    const Wide r = n - q * d;
     if (2 * (r < 0 ? -r : r) >= d) return n < 0 ? q - 1 : q + 1;
     return q;
   }
@@ -62,6 +63,9 @@ struct FixedArith {
   }
 
  private:
+  static bool fits_64(Wide v) {
+    return v >= std::numeric_limits<std::int64_t>::min() && v <= std::numeric_limits<std::int64_t>::max();
+  }
   static core::UInt128 magnitude(Wide v) { return static_cast<core::UInt128>(v < 0 ? -v : v); }
   static int bit_length(core::UInt128 v) {
     const auto hi = static_cast<std::uint64_t>(v >> 64);
@@ -72,6 +76,14 @@ struct FixedArith {
 
 // The ray of the pixel in column col (0..639) and row (0..479): (col - 320, row - 240, 320).
 inline core::Vec3<core::Int128> device_ray(int col, int row) { return {col - 320, row - 240, 320}; }
+
+// Sphere i's surface as the kernel sees it: lambertian when scene memory holds no surface for it.
+inline core::KernelSurface kernel_surface(const SceneMemory& scene, int i) {
+  const auto index = static_cast<std::size_t>(i);
+  if (index >= scene.surfaces.size()) return core::KernelSurface{};
+  const SurfaceWord& s = scene.surfaces[index];
+  return core::KernelSurface{s.material == link::kMaterialMetal, s.albedo};
+}
 
 class Worker {
  public:
@@ -84,12 +96,7 @@ class Worker {
   // times) and tints what its reflected ray sees; anything else is normal-map shaded; a miss is 0x036.
   // Sphere i is lambertian when scene memory holds no surface for it.
   core::PixelTrace trace(int col, int row, const SceneMemory& scene) const {
-    const auto surface_of = [&scene](int i) {
-      const auto index = static_cast<std::size_t>(i);
-      if (index >= scene.surfaces.size()) return core::KernelSurface{};
-      const SurfaceWord& s = scene.surfaces[index];
-      return core::KernelSurface{s.material == link::kMaterialMetal, s.albedo};
-    };
+    const auto surface_of = [&scene](int i) { return kernel_surface(scene, i); };
     return core::trace_pixel(arith_, device_ray(col, row),
                              std::span<const core::KernelSphere<std::int64_t>>(scene.geometry), surface_of,
                              core::kBackground, max_bounces_);

@@ -1,0 +1,180 @@
+#include <tripsitter/device/fast_tracer.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdlib>
+
+namespace tripsitter::device {
+namespace {
+
+using core::Int128;
+using core::UInt128;
+
+constexpr int kRows = 480;
+constexpr std::int64_t kImagePlane = 320;  // the rays' z, and the column and row offsets' origin
+
+// Whether the plane through the camera holding the rays (offset, *, 320) (a column's, offset = col - 320)
+// or (*, offset, 320) (a row's, offset = row - 240) meets the sphere: its distance from the centre is at
+// most r. `across` is the centre's coordinate along the offset, `depth` its z. Exact: with |across|,
+// |depth| < 2^28 and |offset| <= 320 the products stay below 2^76.
+bool plane_meets(std::int64_t across, std::int64_t depth, std::int64_t r2, std::int64_t offset) {
+  const std::int64_t side = kImagePlane * across - offset * depth;  // the normal (320, -offset) . centre
+  return Int128{side} * side <= Int128{r2} * (kImagePlane * kImagePlane + offset * offset);
+}
+
+// The hull [lo, hi] of the indices in [0, count) whose plane (offset index - centre) meets the sphere.
+std::array<int, 2> meeting_range(std::int64_t across, std::int64_t depth, std::int64_t r2, int count, int centre) {
+  int lo = count, hi = -1;
+  for (int i = 0; i < count; ++i) {
+    if (!plane_meets(across, depth, r2, i - centre)) continue;
+    lo = std::min(lo, i);
+    hi = i;
+  }
+  return {lo, hi};
+}
+
+}  // namespace
+
+FastTracer::FastTracer(const DevicePreset& preset)
+    : preset_(preset), controller_(preset), arith_{SqrtUnit(preset.sqrt_iterations)} {}
+
+void FastTracer::load(const SceneMemory& scene) {
+  scene_ = &scene;
+  const std::size_t n = scene.geometry.size();
+  narrow_ = std::all_of(scene.geometry.begin(), scene.geometry.end(), [](const core::KernelSphere<std::int64_t>& s) {
+    return std::abs(s.center.x) < kNarrowLimit && std::abs(s.center.y) < kNarrowLimit &&
+           std::abs(s.center.z) < kNarrowLimit && s.radius >= 0 && s.radius < kNarrowLimit;
+  });
+  if (!narrow_) return;
+  columns_ = std::min(kLineWidth, preset_.workers * controller_.pixels_in_time(static_cast<std::int64_t>(n)));
+  cx_.resize(n);
+  cy_.resize(n);
+  cz_.resize(n);
+  r2_.resize(n);
+  c_prime_.resize(n);
+  col_lo_.resize(n);
+  col_hi_.resize(n);
+  std::vector<std::array<int, 2>> rows(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& s = scene.geometry[i];
+    cx_[i] = s.center.x;
+    cy_[i] = s.center.y;
+    cz_[i] = s.center.z;
+    r2_[i] = s.radius * s.radius;
+    c_prime_[i] = s.center.x * s.center.x + s.center.y * s.center.y + s.center.z * s.center.z - r2_[i];
+    // Wholly behind the camera (every point at z <= 0): a camera ray meets it only at t <= 0, so b <= 0
+    // and num = b - sqrt(D) <= 0, no hit.
+    if (s.center.z + s.radius <= 0) {
+      col_lo_[i] = 0;
+      col_hi_[i] = -1;
+      rows[i] = {0, -1};
+      continue;
+    }
+    const auto cols = meeting_range(s.center.x, s.center.z, r2_[i], columns_, kImagePlane);
+    col_lo_[i] = cols[0];
+    col_hi_[i] = cols[1];
+    rows[i] = col_lo_[i] <= col_hi_[i] ? meeting_range(s.center.y, s.center.z, r2_[i], kRows, kRows / 2)
+                                        : std::array<int, 2>{0, -1};
+  }
+  row_start_.assign(kRows + 1, 0);
+  for (const auto& r : rows)
+    for (int y = r[0]; y <= r[1]; ++y) ++row_start_[static_cast<std::size_t>(y) + 1];
+  for (int y = 0; y < kRows; ++y) row_start_[static_cast<std::size_t>(y) + 1] += row_start_[static_cast<std::size_t>(y)];
+  row_spheres_.resize(static_cast<std::size_t>(row_start_[kRows]));
+  std::vector<int> fill(row_start_.begin(), row_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int y = rows[i][0]; y <= rows[i][1]; ++y)
+      row_spheres_[static_cast<std::size_t>(fill[static_cast<std::size_t>(y)]++)] = static_cast<int>(i);
+}
+
+LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const {
+  const SceneMemory& scene = *scene_;
+  if (!narrow_) return controller_.render_line(row, scene, line);
+
+  // Every camera ray of the row against the row's spheres, sphere by sphere over its columns. The ray of
+  // column col is d = (x, dy, 320) with x = col - 320: a = x^2 + e, b = 2u with u = d.c, c' as loaded, and
+  // D = b^2 - 4ac' = 4q with q = u^2 - a c'. |u| < 880 * 2^28 and a < 2^19, so u fits 64 bits and q 128.
+  const std::int64_t dy = row - kRows / 2;
+  const std::int64_t e = dy * dy + kImagePlane * kImagePlane;
+  std::array<int, kLineWidth> best;
+  std::array<std::int64_t, kLineWidth> best_num;
+  best.fill(-1);
+  for (int k = row_start_[static_cast<std::size_t>(row)]; k < row_start_[static_cast<std::size_t>(row) + 1]; ++k) {
+    const auto i = static_cast<std::size_t>(row_spheres_[static_cast<std::size_t>(k)]);
+    const std::int64_t cx = cx_[i];
+    const std::int64_t u0 = dy * cy_[i] + kImagePlane * cz_[i];
+    const std::int64_t c_prime = c_prime_[i];
+    for (int col = col_lo_[i]; col <= col_hi_[i]; ++col) {
+      const std::int64_t x = col - kImagePlane;
+      const std::int64_t u = x * cx + u0;
+      if (u <= 0) continue;  // b <= 0: num = b - sqrt(D) <= 0, behind the camera
+      const Int128 q = Int128{u} * u - Int128{x * x + e} * c_prime;
+      if (q < 0) continue;
+      const std::int64_t num = 2 * u - static_cast<std::int64_t>(arith_.sqrt_unit.closed_form(static_cast<UInt128>(4 * q)));
+      if (num <= 0) continue;
+      const auto c = static_cast<std::size_t>(col);
+      if (best[c] < 0 || num < best_num[c]) {  // ties keep the sphere sent first, as the plain search does
+        best[c] = static_cast<int>(i);
+        best_num[c] = num;
+      }
+    }
+  }
+
+  const std::span<const core::KernelSphere<std::int64_t>> spheres(scene.geometry);
+  const auto surface_of = [&scene](int i) { return kernel_surface(scene, i); };
+  return schedule_line(preset_, static_cast<std::int64_t>(spheres.size()), line, [&](int col) {
+    // The schedule starts a worker's first late pixel before it knows it is late; from columns_ on, a
+    // pixel is late whatever it shows, so it needs no tracing.
+    if (col >= columns_) return core::PixelTrace{core::kBlack, 0};
+    const auto c = static_cast<std::size_t>(col);
+    const core::KernelHit<Int128> primary{best[c], best[c] < 0 ? Int128{0} : Int128{best_num[c]}};
+    return core::trace_pixel_with<FixedArith>(
+        device_ray(col, row), spheres, surface_of, core::kBackground, preset_.max_bounces,
+        [&](const core::KernelRay<Int128>& ray, int excluded, int pass) {
+          return pass == 0 ? primary : closest_hit(ray, excluded);
+        });
+  });
+}
+
+core::KernelHit<Int128> FastTracer::closest_hit(const core::KernelRay<Int128>& ray, int excluded) const {
+  // A reflected ray starts on a sphere (|o_k| <= |c_k| + r + 2) and its direction is scaled to 2^20 per
+  // component; beyond |o_k| < 2^30 and |d_k| <= 2^21 take the plain search. Within them, with |c_k| < 2^28:
+  // |oc_k| < 2^30.4, |b| < 2^54, oc.oc < 2^62.3, 4a < 2^45.6, and b^2, 4ac' < 2^108.
+  constexpr Int128 kOrigin = Int128{1} << 30;
+  constexpr Int128 kDirection = Int128{1} << 21;
+  for (int k = 0; k < 3; ++k) {
+    if (ray.origin[k] >= kOrigin || ray.origin[k] <= -kOrigin || ray.direction[k] > kDirection ||
+        ray.direction[k] < -kDirection)
+      return core::closest_hit(arith_, ray, std::span<const core::KernelSphere<std::int64_t>>(scene_->geometry),
+                               excluded);
+  }
+  const auto ox = static_cast<std::int64_t>(ray.origin.x);
+  const auto oy = static_cast<std::int64_t>(ray.origin.y);
+  const auto oz = static_cast<std::int64_t>(ray.origin.z);
+  const auto dx = static_cast<std::int64_t>(ray.direction.x);
+  const auto dy = static_cast<std::int64_t>(ray.direction.y);
+  const auto dz = static_cast<std::int64_t>(ray.direction.z);
+  const std::int64_t four_a = 4 * (dx * dx + dy * dy + dz * dz);
+  int best = -1;
+  std::int64_t best_num = 0;
+  const int n = static_cast<int>(cx_.size());
+  for (int i = 0; i < n; ++i) {
+    if (i == excluded) continue;
+    const auto s = static_cast<std::size_t>(i);
+    const std::int64_t ocx = cx_[s] - ox, ocy = cy_[s] - oy, ocz = cz_[s] - oz;
+    const std::int64_t b = 2 * (dx * ocx + dy * ocy + dz * ocz);
+    if (b <= 0) continue;  // num = b - sqrt(D) <= 0
+    const std::int64_t c_prime = ocx * ocx + ocy * ocy + ocz * ocz - r2_[s];
+    const Int128 disc = Int128{b} * b - Int128{four_a} * c_prime;
+    if (disc < 0) continue;
+    const std::int64_t num = b - static_cast<std::int64_t>(arith_.sqrt_unit.closed_form(static_cast<UInt128>(disc)));
+    if (num <= 0) continue;
+    if (best < 0 || num < best_num) {
+      best = i;
+      best_num = num;
+    }
+  }
+  return {best, best_num};
+}
+
+}  // namespace tripsitter::device

@@ -1,0 +1,65 @@
+// The fast model of the workers, which Device uses when it runs on more than one thread: for every line,
+// exactly the colours and late pixels of Controller::render_line (the plain model, a Worker::trace per
+// pixel), from exact integer shortcuts (docs/device.md, "The fast model"):
+//  - screen-space bounds. The rays of column x all lie in one plane through the camera, those of a row in
+//    another; a ray can only hit a sphere that both its planes meet, and no ray hits a sphere wholly behind
+//    the camera. So each sphere gets a range of columns and of rows, tested exactly in integers once per
+//    frame, and a line tests only the spheres whose rows hold it, each over its columns;
+//  - 64-bit sums and products where the bounds below keep them under 2^63; 128 bits for b^2 and 4ac';
+//  - the square-root unit's closed form (SqrtUnit::closed_form) instead of its step-by-step recurrence.
+// The schedule is the controller's own (schedule_line). Worlds beyond the 64-bit bounds (a coordinate or
+// radius of kNarrowLimit raw units or more, possible only with formats wider than 29 bits) are traced by
+// the plain worker.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <tripsitter/core/rgb444.h>
+#include <tripsitter/core/sphere_kernel.h>
+#include <tripsitter/device/controller.h>
+#include <tripsitter/device/preset.h>
+#include <tripsitter/device/scene_memory.h>
+#include <tripsitter/device/worker.h>
+
+namespace tripsitter::device {
+
+class FastTracer {
+ public:
+  // |centre_k| and radius below this (raw) keep every sum and product of the fast paths within 64 bits.
+  static constexpr std::int64_t kNarrowLimit = std::int64_t{1} << 28;
+
+  // REQUIRES preset.validate() is empty.
+  explicit FastTracer(const DevicePreset& preset);
+
+  // Takes the world of a frame. REQUIRES `scene` to outlive the render_line calls and stay unchanged.
+  void load(const SceneMemory& scene);
+
+  // Row `row` (0..479) of the loaded world's frame: what Controller::render_line(row, scene, line) gives.
+  // Calls may run on several threads at once.
+  LineResult render_line(int row, std::span<core::Rgb444> line) const;
+
+  // Whether the loaded world takes the fast paths (false: the plain worker traces it).
+  bool narrow() const { return narrow_; }
+
+ private:
+  // The closest hit of a reflected ray (or any ray whose origin and direction fit the 64-bit bounds).
+  core::KernelHit<core::Int128> closest_hit(const core::KernelRay<core::Int128>& ray, int excluded) const;
+
+  DevicePreset preset_;
+  Controller controller_;
+  FixedArith arith_;
+  const SceneMemory* scene_ = nullptr;
+  bool narrow_ = false;
+  int columns_ = 0;  // columns that can be on time: workers * pixels_in_time (later ones are late for sure)
+  // The spheres, structure of arrays: centre, radius squared, c' = centre.centre - r^2 (a camera ray's).
+  std::vector<std::int64_t> cx_, cy_, cz_, r2_, c_prime_;
+  // Columns [col_lo_, col_hi_] whose planes meet sphere i (empty when col_lo_ > col_hi_).
+  std::vector<int> col_lo_, col_hi_;
+  // Spheres whose rows hold row y, in the order sent: row_spheres_[row_start_[y] .. row_start_[y + 1]).
+  std::vector<int> row_start_;
+  std::vector<int> row_spheres_;
+};
+
+}  // namespace tripsitter::device
