@@ -32,6 +32,14 @@ link::WireVersion parse_wire(const std::string& name);
 // All bytes of a file, or of standard input for "-"; throws InputError.
 std::vector<std::uint8_t> read_bytes(const std::string& path);
 
+// Where this process stands in a job started by Open MPI's mpirun, read from the OMPI_COMM_WORLD_RANK and
+// OMPI_COMM_WORLD_SIZE variables it sets: size 0 when mpirun did not start it.
+struct MpirunPlace {
+  int rank = 0;
+  int size = 0;
+};
+MpirunPlace mpirun_place();
+
 // "a, b, c"
 std::string join(const std::vector<std::string>& items);
 

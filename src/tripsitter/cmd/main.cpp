@@ -2,6 +2,7 @@
 // (0 success, 2 bad input or usage, 1 internal failure).
 #include <exception>
 #include <iostream>
+#include <sstream>
 
 #include <CLI/CLI.hpp>
 
@@ -22,14 +23,18 @@ int main(int argc, char** argv) {
   add_bench_command(app, run);
   add_host_command(app, run);
   add_device_command(app, run);
+  // Under mpirun every rank parses the same arguments: rank 0 alone prints help and usage errors.
+  std::ostringstream elsewhere;
+  std::ostream& out = mpirun_place().rank == 0 ? std::cout : elsewhere;
+  std::ostream& err = mpirun_place().rank == 0 ? std::cerr : elsewhere;
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    return app.exit(e, out, err);
   } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
+    return app.exit(e, out, err);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    app.exit(e, out, err);
     return kExitBadInput;
   }
   try {

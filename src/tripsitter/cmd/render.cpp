@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <system_error>
 
 #include <tripsitter/board/board.h>
 #include <tripsitter/display/png.h>
@@ -19,37 +20,10 @@
 
 #include "commands.h"
 #include "common.h"
+#include "render.h"
 
 namespace tripsitter::cmd {
 namespace {
-
-struct RenderOptions {
-  std::string scene = "demo";
-  std::string mode = "hw";
-  std::string preset = "wide";
-  int workers = 0;
-  int bounces = -1;
-  std::string wire = "v2";
-  int width = 0;   // 0: 640 in hw mode, the scene's render.width in normal mode
-  int height = 0;
-  std::string out = "tripsitter.png";
-  std::string vcd;
-  int lines = 525;
-  std::string link_input;
-  std::size_t transfer_bytes = link::SpiConfig{}.max_transfer_bytes;
-  std::int64_t spi_hz = link::SpiConfig{}.clock_hz;
-  bool compare = false;
-  // path mode; 0 means the scene's render settings
-  int spp = 0;
-  int depth = 0;
-  std::uint64_t seed = 1;
-  int threads = 0;
-  bool quiet = false;
-  // animation
-  int frames = 0;
-  double orbit = 0;
-  std::string video;
-};
 
 // Fails before any work is done when a file could not be written there.
 void check_output_path(const std::string& path) {
@@ -58,16 +32,24 @@ void check_output_path(const std::string& path) {
     throw InputError(path + ": directory " + parent.string() + " does not exist");
 }
 
-template <class Image>
-void write_quietly(const std::string& path, const Image& image) {
-  auto written = display::write_png(path, image);
-  if (!written) throw InputError(written.error().message);
-}
-
-template <class Image>
-void write_image(const std::string& path, const Image& image) {
-  write_quietly(path, image);
-  std::cerr << "wrote " << path << " (" << image.width << "x" << image.height << ")\n";
+// Exactly one integer conversion (%d, %4d, %04d, ...) and no other %, except %%.
+void check_pattern(const std::string& pattern) {
+  int conversions = 0;
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] != '%') continue;
+    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+      ++i;
+      continue;
+    }
+    std::size_t j = i + 1;
+    while (j < pattern.size() && (std::isdigit(static_cast<unsigned char>(pattern[j])) != 0)) ++j;
+    if (j >= pattern.size() || pattern[j] != 'd' || j - i > 4)
+      throw InputError("--out " + pattern + ": with --frames it needs one %d (or %04d) for the frame number");
+    ++conversions;
+    i = j;
+  }
+  if (conversions != 1 || pattern.size() > 2000)
+    throw InputError("--out " + pattern + ": with --frames it needs exactly one %d (or %04d) for the frame number");
 }
 
 // The VCD file is opened before rendering, so a bad path fails before any work; it is removed again if
@@ -117,113 +99,35 @@ void report(const board::ShownFrame& f) {
 }
 
 int run_path(const RenderOptions& o, const scene::Scene& scene) {
-  render::PathSettings s;
-  s.width = o.width != 0 ? o.width : scene.render.width;
-  s.height = o.height != 0 ? o.height : scene.render.height;
-  s.spp = o.spp != 0 ? o.spp : scene.render.spp;
-  s.max_depth = o.depth != 0 ? o.depth : scene.render.max_depth;
-  s.seed = o.seed;
-  s.threads = o.threads;
+  const render::PathSettings s = path_settings(o, scene);
   const auto t0 = std::chrono::steady_clock::now();
   const render::PathScene path_scene(scene.spheres);
   const auto t1 = std::chrono::steady_clock::now();
   const render::ThinLensCamera camera(scene.camera, s.width, s.height);
-  const std::uint64_t total = static_cast<std::uint64_t>(s.width) * static_cast<std::uint64_t>(s.height) *
-                              static_cast<std::uint64_t>(s.spp);
   render::ImageRgbF image;
   {
-    core::ProgressBar bar("path", total, "samples", !o.quiet, std::cerr);
+    core::ProgressBar bar("path", samples_of(s), "samples", !o.quiet, std::cerr);
     image = render::render_path(path_scene, camera, s, [&](std::uint64_t n) { bar.add(n); });
   }
   const auto t2 = std::chrono::steady_clock::now();
-  const double build = std::chrono::duration<double>(t1 - t0).count();
-  const double trace = std::chrono::duration<double>(t2 - t1).count();
   if (!o.quiet)
-    std::fprintf(stderr, "path: %zu spheres, BVH built in %.3f s; %dx%d at %d spp in %.2f s (%.2f Msamples/s)\n",
-                 path_scene.size(), build, s.width, s.height, s.spp, trace, static_cast<double>(total) / trace / 1e6);
+    report_path(path_scene, s, std::chrono::duration<double>(t1 - t0).count(),
+                std::chrono::duration<double>(t2 - t1).count(), "");
   write_image(o.out, render::to_srgb8(image));
   return kExitOk;
 }
-
-// "DIR/frame_%04d.png" with frame 7 is "DIR/frame_0007.png". REQUIRES a pattern accepted by check_pattern.
-std::string frame_path(const std::string& pattern, int frame) {
-  char buf[4096];
-  std::snprintf(buf, sizeof buf, pattern.c_str(), frame);
-  return buf;
-}
-
-// Exactly one integer conversion (%d, %4d, %04d, ...) and no other %, except %%.
-void check_pattern(const std::string& pattern) {
-  int conversions = 0;
-  for (std::size_t i = 0; i < pattern.size(); ++i) {
-    if (pattern[i] != '%') continue;
-    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
-      ++i;
-      continue;
-    }
-    std::size_t j = i + 1;
-    while (j < pattern.size() && (std::isdigit(static_cast<unsigned char>(pattern[j])) != 0)) ++j;
-    if (j >= pattern.size() || pattern[j] != 'd' || j - i > 4)
-      throw InputError("--out " + pattern + ": with --frames it needs one %d (or %04d) for the frame number");
-    ++conversions;
-    i = j;
-  }
-  if (conversions != 1 || pattern.size() > 2000)
-    throw InputError("--out " + pattern + ": with --frames it needs exactly one %d (or %04d) for the frame number");
-}
-
-// ffmpeg fed raw RGB frames through a pipe; nothing when ffmpeg is not installed.
-class VideoPipe {
- public:
-  VideoPipe(const std::string& path, int width, int height) {
-    if (path.empty()) return;
-    // The command goes through the shell, with the path in single quotes.
-    if (path.find('\'') != std::string::npos) throw InputError("--video " + path + ": a quote in the file name");
-    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
-      std::cerr << "ffmpeg is not installed (Debian: apt-get install ffmpeg): writing the PNG frames only, no " << path
-                << "\n";
-      return;
-    }
-    const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgb24 -s " + std::to_string(width) + "x" +
-                            std::to_string(height) + " -r 30 -i - -pix_fmt yuv420p '" + path + "'";
-    pipe_ = popen(cmd.c_str(), "w");
-    if (pipe_ == nullptr) throw std::runtime_error("cannot start ffmpeg");
-    path_ = path;
-  }
-  ~VideoPipe() {
-    if (pipe_ != nullptr) pclose(pipe_);
-  }
-  void add(const core::ImageRgb8& frame) {
-    if (pipe_ != nullptr) std::fwrite(frame.pixels.data(), 1, frame.pixels.size(), pipe_);
-  }
-  void finish() {
-    if (pipe_ == nullptr) return;
-    const int status = pclose(pipe_);
-    pipe_ = nullptr;
-    if (status != 0) throw std::runtime_error("ffmpeg failed writing " + path_);
-    std::cerr << "wrote " << path_ << "\n";
-  }
-
- private:
-  FILE* pipe_ = nullptr;
-  std::string path_;
-};
 
 // --frames N --orbit DEG: the camera circles its target by DEG over the N frames (frame i at i * DEG / N,
 // so 360 loops), each frame through the same path as a still.
 int run_animation(const RenderOptions& o, scene::Scene scene, const device::DevicePreset& preset,
                   link::WireVersion wire) {
-  check_pattern(o.out);
-  check_output_path(frame_path(o.out, 0));
-  if (!o.video.empty()) check_output_path(o.video);
   const bool path_mode = o.mode == "path";
   const int width = o.mode == "hw" ? 640 : (o.width != 0 ? o.width : scene.render.width);
   const int height = o.mode == "hw" ? 480 : (o.height != 0 ? o.height : scene.render.height);
   std::unique_ptr<render::PathScene> path_scene;
   if (path_mode) path_scene = std::make_unique<render::PathScene>(scene.spheres);
   const scene::CameraSettings camera = scene.camera;
-  const int spp = o.spp != 0 ? o.spp : scene.render.spp;
-  const int depth = o.depth != 0 ? o.depth : scene.render.max_depth;
+  const render::PathSettings settings = path_settings(o, scene);
   board::Board b(std::move(scene), {preset, wire, {o.transfer_bytes, o.spi_hz}});
   VideoPipe video(o.video, width, height);
   core::ProgressBar bar("animation", static_cast<std::uint64_t>(o.frames), "frames", !o.quiet, std::cerr);
@@ -240,12 +144,7 @@ int run_animation(const RenderOptions& o, scene::Scene scene, const device::Devi
       write_quietly(file, img);
       rgb = core::to_rgb8(img);
     } else {
-      scene::CameraSettings cam = camera;
-      cam.lookfrom = b.host().camera().position();
-      cam.lookat = b.host().camera().target();
-      render::PathSettings s{.width = width, .height = height, .spp = spp, .max_depth = depth, .seed = o.seed,
-                             .threads = o.threads, .sky = {}};
-      rgb = render::to_srgb8(render::render_path(*path_scene, render::ThinLensCamera(cam, width, height), s));
+      rgb = render_path_frame(*path_scene, camera, b.host().camera(), settings);
       write_quietly(file, rgb);
     }
     video.add(rgb);
@@ -259,23 +158,26 @@ int run_animation(const RenderOptions& o, scene::Scene scene, const device::Devi
 }
 
 int run_render(const RenderOptions& o) {
-  if (o.mode != "hw" && o.mode != "normal" && o.mode != "path")
-    throw InputError("--mode must be hw, normal or path, not '" + o.mode + "'");
-  if (o.mode != "path" && (o.spp != 0 || o.depth != 0))
-    throw InputError("--spp and --depth need --mode path (hw and normal trace one ray per pixel)");
+  const MpirunPlace place = mpirun_place();
+#ifdef TRIPSITTER_WITH_MPI
+  if (place.size > 0 && o.mode == "path") return run_render_mpi(o);
+  const std::string refusal = "--mode " + o.mode + " under mpirun: only --mode path shares its work among MPI ranks; run " +
+                              o.mode + " without mpirun";
+#else
+  const std::string refusal = "this tripsitter was built without MPI, so under mpirun each of the " +
+                              std::to_string(place.size) +
+                              " ranks would render the whole image on its own; run it without mpirun, or build it "
+                              "with MPI (docs/mpi.md)";
+#endif
+  // Every rank refuses alike; rank 0 says why.
+  if (place.size > 1) {
+    if (place.rank != 0) return kExitBadInput;
+    throw InputError(refusal);
+  }
+  check_options(o);
+  check_outputs(o);
   const link::WireVersion wire = parse_wire(o.wire);
   const device::DevicePreset preset = load_preset(o.preset, o.workers, o.bounces);
-  if (o.mode == "hw" && ((o.width != 0 && o.width != 640) || (o.height != 0 && o.height != 480)))
-    throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal or path");
-  if (o.mode != "hw" && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float renderers have no VGA signal)");
-  if (o.mode != "hw" && !o.link_input.empty()) throw InputError("--link-input needs --mode hw");
-  if (o.compare && (o.mode != "hw" || !o.link_input.empty()))
-    throw InputError("--compare needs --mode hw with a scene (it renders the same world in float)");
-  if (o.frames == 0 && (o.orbit != 0 || !o.video.empty())) throw InputError("--orbit and --video need --frames N");
-  if (o.frames > 0 && (!o.vcd.empty() || !o.link_input.empty() || o.compare))
-    throw InputError("--frames renders an animation: --vcd, --link-input and --compare are for one frame");
-  if (o.frames == 0) check_output_path(o.out);
-  if (!o.vcd.empty()) check_output_path(o.vcd);
 
   if (!o.link_input.empty()) {
     // The device alone, fed raw link bytes as a real host would send them.
@@ -337,6 +239,114 @@ int run_render(const RenderOptions& o) {
 
 }  // namespace
 
+void check_options(const RenderOptions& o) {
+  if (o.mode != "hw" && o.mode != "normal" && o.mode != "path")
+    throw InputError("--mode must be hw, normal or path, not '" + o.mode + "'");
+  if (o.mode != "path" && (o.spp != 0 || o.depth != 0))
+    throw InputError("--spp and --depth need --mode path (hw and normal trace one ray per pixel)");
+  parse_wire(o.wire);
+  load_preset(o.preset, o.workers, o.bounces);
+  if (o.mode == "hw" && ((o.width != 0 && o.width != 640) || (o.height != 0 && o.height != 480)))
+    throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal or path");
+  if (o.mode != "hw" && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float renderers have no VGA signal)");
+  if (o.mode != "hw" && !o.link_input.empty()) throw InputError("--link-input needs --mode hw");
+  if (o.compare && (o.mode != "hw" || !o.link_input.empty()))
+    throw InputError("--compare needs --mode hw with a scene (it renders the same world in float)");
+  if (o.frames == 0 && (o.orbit != 0 || !o.video.empty())) throw InputError("--orbit and --video need --frames N");
+  if (o.frames > 0 && (!o.vcd.empty() || !o.link_input.empty() || o.compare))
+    throw InputError("--frames renders an animation: --vcd, --link-input and --compare are for one frame");
+  if (o.frames > 0) check_pattern(o.out);
+}
+
+void check_outputs(const RenderOptions& o) {
+  if (o.frames == 0) {
+    check_output_path(o.out);
+  } else {
+    check_output_path(frame_path(o.out, 0));
+    if (!o.video.empty()) check_output_path(o.video);
+  }
+  if (!o.vcd.empty()) check_output_path(o.vcd);
+}
+
+render::PathSettings path_settings(const RenderOptions& o, const scene::Scene& scene) {
+  render::PathSettings s;
+  s.width = o.width != 0 ? o.width : scene.render.width;
+  s.height = o.height != 0 ? o.height : scene.render.height;
+  s.spp = o.spp != 0 ? o.spp : scene.render.spp;
+  s.max_depth = o.depth != 0 ? o.depth : scene.render.max_depth;
+  s.seed = o.seed;
+  s.threads = o.threads;
+  return s;
+}
+
+std::uint64_t samples_of(const render::PathSettings& s) {
+  return static_cast<std::uint64_t>(s.width) * static_cast<std::uint64_t>(s.height) * static_cast<std::uint64_t>(s.spp);
+}
+
+void report_path(const render::PathScene& scene, const render::PathSettings& s, double build_seconds,
+                 double trace_seconds, const std::string& where) {
+  std::fprintf(stderr, "path: %zu spheres, BVH built in %.3f s; %dx%d at %d spp in %.2f s (%.2f Msamples/s)%s\n",
+               scene.size(), build_seconds, s.width, s.height, s.spp, trace_seconds,
+               static_cast<double>(samples_of(s)) / trace_seconds / 1e6, where.c_str());
+}
+
+core::ImageRgb8 render_path_frame(const render::PathScene& scene, scene::CameraSettings camera, const host::Camera& at,
+                                  const render::PathSettings& s) {
+  camera.lookfrom = at.position();
+  camera.lookat = at.target();
+  return render::to_srgb8(render::render_path(scene, render::ThinLensCamera(camera, s.width, s.height), s));
+}
+
+std::string frame_path(const std::string& pattern, int frame) {
+  char buf[4096];
+  std::snprintf(buf, sizeof buf, pattern.c_str(), frame);
+  return buf;
+}
+
+VideoPipe::VideoPipe(const std::string& path, int width, int height) {
+  if (path.empty()) return;
+  // The command goes through the shell, with the path in single quotes.
+  if (path.find('\'') != std::string::npos) throw InputError("--video " + path + ": a quote in the file name");
+  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
+    std::cerr << "ffmpeg is not installed (Debian: apt-get install ffmpeg): writing the PNG frames only, no " << path
+              << "\n";
+    return;
+  }
+  // ffmpeg writes "DIR/NAME.partial.EXT" (it picks the format by the extension), renamed once it has finished,
+  // so a render that stops part-way never leaves a short video under the asked name.
+  const std::filesystem::path p(path);
+  partial_ = (p.parent_path() / (p.stem().string() + ".partial" + p.extension().string())).string();
+  const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgb24 -s " + std::to_string(width) + "x" +
+                          std::to_string(height) + " -r 30 -i - -pix_fmt yuv420p '" + partial_ + "'";
+  pipe_ = popen(cmd.c_str(), "w");
+  if (pipe_ == nullptr) throw std::runtime_error("cannot start ffmpeg");
+  path_ = path;
+}
+
+VideoPipe::~VideoPipe() {
+  if (pipe_ == nullptr) return;
+  pclose(pipe_);
+  std::error_code ignored;
+  std::filesystem::remove(partial_, ignored);
+}
+
+void VideoPipe::add(const core::ImageRgb8& frame) {
+  if (pipe_ != nullptr) std::fwrite(frame.pixels.data(), 1, frame.pixels.size(), pipe_);
+}
+
+void VideoPipe::finish() {
+  if (pipe_ == nullptr) return;
+  const int status = pclose(pipe_);
+  pipe_ = nullptr;
+  std::error_code ec;
+  if (status == 0) std::filesystem::rename(partial_, path_, ec);
+  if (status != 0 || ec) {
+    std::filesystem::remove(partial_, ec);
+    throw std::runtime_error("ffmpeg failed writing " + path_);
+  }
+  std::cerr << "wrote " << path_ << "\n";
+}
+
 void add_render_command(CLI::App& app, Action& run) {
   auto o = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render one frame as the board's monitor shows it, to a PNG file");
@@ -391,6 +401,14 @@ void add_render_command(CLI::App& app, Action& run) {
                   "says so and writes the PNGs only");
   cmd->add_flag("--compare", o->compare,
                "hw only: also render the same view-space world with the float reference and print how the two differ");
+#ifdef TRIPSITTER_WITH_MPI
+  cmd->footer("MPI: started by Open MPI's mpirun (mpirun -np K tripsitter render --mode path ...), the K ranks share\n"
+              "the path tracer's work: rows of a still, frames of an animation. Rank 0 shows the progress and writes\n"
+              "the output, which is the same bytes for any K. --threads is per rank. hw and normal modes refuse to\n"
+              "run on more than one rank. See docs/mpi.md.");
+#else
+  cmd->footer("MPI: this build has none; under mpirun with more than one rank, render refuses to run (docs/mpi.md).");
+#endif
   cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
 }
 

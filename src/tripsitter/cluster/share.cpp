@@ -1,0 +1,180 @@
+#include <tripsitter/cluster/share.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <exception>
+#include <memory>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+namespace tripsitter::cluster {
+namespace {
+
+// Message tags. Messages from one rank with one tag arrive in the order they were sent.
+constexpr int kProgressTag = 1;  // a rank's samples traced so far, one std::uint64_t; the last one is its total
+constexpr int kRowsTag = 2;      // all rows of a still that a rank traced, in place (rows_type)
+constexpr int kFrameTag = 3;     // one frame of an animation, 8-bit RGB
+
+// A rank that waits polls with short sleeps rather than blocking in MPI: Open MPI's blocking calls spin,
+// and on a machine with as many ranks as cores that core would be taken from the ranks still tracing.
+constexpr auto kPoll = std::chrono::milliseconds(5);
+constexpr auto kProgressPeriod = std::chrono::milliseconds(100);
+
+void wait(MPI_Request& request) {
+  for (int done = 0;;) {
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done != 0) return;
+    std::this_thread::sleep_for(kPoll);
+  }
+}
+
+// Rows a rank traces: rank, rank + size, ... below height.
+int rows_of(int rank, int size, int height) { return rank < height ? (height - rank + size - 1) / size : 0; }
+
+static_assert(std::is_trivially_copyable_v<render::Vec3f> && sizeof(render::Vec3f) == 3 * sizeof(float),
+              "rows go over MPI as plain floats");
+
+// The rows of one rank as one MPI datatype, starting at its first row's first pixel: blocks of 3 width
+// floats, `size` rows apart. Freed with the object.
+class RowsType {
+ public:
+  RowsType(int rank, int size, const render::ImageRgbF& image) : rows_(rows_of(rank, size, image.height)) {
+    const MPI_Aint row_bytes = static_cast<MPI_Aint>(image.width) * static_cast<MPI_Aint>(sizeof(render::Vec3f));
+    MPI_Type_create_hvector(rows_, 3 * image.width, row_bytes * size, MPI_FLOAT, &type_);
+    MPI_Type_commit(&type_);
+  }
+  ~RowsType() { MPI_Type_free(&type_); }
+  RowsType(const RowsType&) = delete;
+  RowsType& operator=(const RowsType&) = delete;
+  int rows() const { return rows_; }
+  MPI_Datatype type() const { return type_; }
+
+ private:
+  int rows_;
+  MPI_Datatype type_ = MPI_DATATYPE_NULL;
+};
+
+render::Vec3f* first_pixel(render::ImageRgbF& image, int row) {
+  return image.pixels.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(image.width);
+}
+
+}  // namespace
+
+render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& scene, const render::ThinLensCamera& camera,
+                                     const render::PathSettings& settings,
+                                     const std::function<void(std::uint64_t)>& on_samples) {
+  const int rank = job.rank(), size = job.size();
+  render::ImageRgbF image{settings.width, settings.height,
+                          std::vector<render::Vec3f>(static_cast<std::size_t>(settings.width) *
+                                                     static_cast<std::size_t>(settings.height))};
+  const std::uint64_t samples_per_row =
+      static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp);
+  const auto samples_of = [&](int r) {
+    return static_cast<std::uint64_t>(rows_of(r, size, settings.height)) * samples_per_row;
+  };
+
+  // Rank 0 posts its receives before tracing, so the other ranks' rows land in the image whenever they come.
+  std::vector<std::unique_ptr<RowsType>> types;
+  std::vector<MPI_Request> rows_received(static_cast<std::size_t>(size), MPI_REQUEST_NULL);
+  if (job.is_root()) {
+    for (int r = 1; r < size; ++r) {
+      types.push_back(std::make_unique<RowsType>(r, size, image));
+      if (types.back()->rows() > 0)
+        MPI_Irecv(first_pixel(image, r), 1, types.back()->type(), r, kRowsTag, MPI_COMM_WORLD,
+                  &rows_received[static_cast<std::size_t>(r)]);
+    }
+  }
+
+  // This rank's rows are traced on another thread while this one, the only one calling MPI, reports progress.
+  std::atomic<std::uint64_t> traced{0};
+  std::atomic<bool> finished{false};
+  std::exception_ptr error;
+  std::jthread tracer([&] {
+    try {
+      render::render_path_rows(scene, camera, settings, rank, size, image, [&](std::uint64_t n) {
+        traced.fetch_add(n, std::memory_order_relaxed);
+        job.test_kill_point();
+      });
+    } catch (...) {
+      error = std::current_exception();
+    }
+    finished.store(true, std::memory_order_release);
+  });
+
+  if (job.is_root()) {
+    // Samples counted per rank; a rank is done when its rows have arrived and its last count, its total.
+    std::vector<std::uint64_t> counted(static_cast<std::size_t>(size), 0);
+    std::vector<bool> counted_all(static_cast<std::size_t>(size), false);
+    std::uint64_t reported = 0;
+    for (bool done = false; !done;) {
+      const bool traced_all = finished.load(std::memory_order_acquire);
+      counted[0] = traced.load(std::memory_order_relaxed);
+      for (int waiting = 1; waiting != 0;) {
+        MPI_Status status;
+        MPI_Iprobe(MPI_ANY_SOURCE, kProgressTag, MPI_COMM_WORLD, &waiting, &status);
+        if (waiting == 0) break;
+        std::uint64_t n = 0;
+        MPI_Recv(&n, 1, MPI_UINT64_T, status.MPI_SOURCE, kProgressTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        const auto from = static_cast<std::size_t>(status.MPI_SOURCE);
+        counted[from] = n;
+        counted_all[from] = n == samples_of(status.MPI_SOURCE);
+      }
+      done = traced_all;
+      for (int r = 1; r < size; ++r) {
+        int arrived = 0;
+        MPI_Test(&rows_received[static_cast<std::size_t>(r)], &arrived, MPI_STATUS_IGNORE);
+        done = done && arrived != 0 && counted_all[static_cast<std::size_t>(r)];
+      }
+      std::uint64_t total = 0;
+      for (const std::uint64_t n : counted) total += n;
+      if (total > reported && on_samples) on_samples(total - reported);
+      reported = std::max(reported, total);
+      if (!done) std::this_thread::sleep_for(kPoll);
+    }
+  } else {
+    std::uint64_t sent = 0;
+    auto last = std::chrono::steady_clock::now();
+    while (!finished.load(std::memory_order_acquire)) {
+      std::this_thread::sleep_for(kPoll);
+      if (std::chrono::steady_clock::now() - last < kProgressPeriod) continue;
+      last = std::chrono::steady_clock::now();
+      const std::uint64_t n = traced.load(std::memory_order_relaxed);
+      if (n != sent) MPI_Send(&n, 1, MPI_UINT64_T, 0, kProgressTag, MPI_COMM_WORLD);
+      sent = n;
+    }
+  }
+  tracer.join();
+  if (error) std::rethrow_exception(error);
+  if (!job.is_root()) {
+    const RowsType mine(rank, size, image);
+    MPI_Request rows_sent = MPI_REQUEST_NULL;
+    if (mine.rows() > 0) MPI_Isend(first_pixel(image, rank), 1, mine.type(), 0, kRowsTag, MPI_COMM_WORLD, &rows_sent);
+    const std::uint64_t total = samples_of(rank);
+    MPI_Send(&total, 1, MPI_UINT64_T, 0, kProgressTag, MPI_COMM_WORLD);
+    wait(rows_sent);
+  }
+  return image;
+}
+
+FrameExchange::~FrameExchange() { wait(request_); }
+
+void FrameExchange::send(core::ImageRgb8 image) {
+  wait(request_);
+  sending_ = std::move(image);
+  MPI_Isend(sending_.pixels.data(), static_cast<int>(sending_.pixels.size()), MPI_UINT8_T, 0, kFrameTag, MPI_COMM_WORLD,
+            &request_);
+}
+
+core::ImageRgb8 FrameExchange::receive(int frame, int width, int height) {
+  core::ImageRgb8 image(width, height);
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPI_Irecv(image.pixels.data(), static_cast<int>(image.pixels.size()), MPI_UINT8_T, frame % job_.size(), kFrameTag,
+            MPI_COMM_WORLD, &request);
+  wait(request);
+  return image;
+}
+
+}  // namespace tripsitter::cluster

@@ -1,0 +1,148 @@
+// `tripsitter render --mode path` started by Open MPI's mpirun: the ranks share the work and rank 0 writes
+// (docs/mpi.md). Built only with MPI.
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <exception>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include <tripsitter/cluster/job.h>
+#include <tripsitter/cluster/share.h>
+#include <tripsitter/core/progress.h>
+
+#include "render.h"
+
+namespace tripsitter::cmd {
+namespace {
+
+// mpirun stops the other ranks with SIGTERM when one rank dies or the job is interrupted. Rank 0 then says
+// that nothing more is written, and nothing is half-written: write_png writes beside its file and renames.
+void on_stopped(int) {
+  // The newline ends a progress bar line that may be showing.
+  static const char kMessage[] =
+      "\ntripsitter: mpirun stopped rank 0 before the job finished (a rank failed, or the job was interrupted); "
+      "nothing more is written\n";
+  [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+  ::_exit(kExitInternal);
+}
+
+// While it lives, rank 0 reports a stop as above.
+class StopNotice {
+ public:
+  explicit StopNotice(bool enabled) : enabled_(enabled) {
+    if (enabled_) previous_ = std::signal(SIGTERM, on_stopped);
+  }
+  ~StopNotice() {
+    if (enabled_) std::signal(SIGTERM, previous_);
+  }
+  StopNotice(const StopNotice&) = delete;
+  StopNotice& operator=(const StopNotice&) = delete;
+
+ private:
+  bool enabled_;
+  void (*previous_)(int) = SIG_DFL;
+};
+
+std::string on_ranks(const cluster::Job& job) { return " on " + std::to_string(job.size()) + " MPI ranks"; }
+
+// A still: rank r of K traces rows r, r + K, ...; rank 0 gathers them, reports and writes.
+int run_still(const cluster::Job& job, const RenderOptions& o, const scene::Scene& scene) {
+  const render::PathSettings s = path_settings(o, scene);
+  const auto t0 = std::chrono::steady_clock::now();
+  const render::PathScene path_scene(scene.spheres);
+  const auto t1 = std::chrono::steady_clock::now();
+  const render::ThinLensCamera camera(scene.camera, s.width, s.height);
+  render::ImageRgbF image;
+  {
+    core::ProgressBar bar("path", samples_of(s), "samples", !o.quiet && job.is_root(), std::cerr);
+    image = cluster::render_path_shared(job, path_scene, camera, s, [&](std::uint64_t n) { bar.add(n); });
+  }
+  if (!job.is_root()) return kExitOk;
+  const auto t2 = std::chrono::steady_clock::now();
+  if (!o.quiet)
+    report_path(path_scene, s, std::chrono::duration<double>(t1 - t0).count(),
+                std::chrono::duration<double>(t2 - t1).count(), on_ranks(job));
+  write_image(o.out, render::to_srgb8(image));
+  return kExitOk;
+}
+
+// An animation: frame i is rendered whole by rank i % K; rank 0 writes the frames in order (and feeds ffmpeg).
+// Every rank moves the camera through every frame, so each frame's camera is the one a single process uses.
+int run_frames(const cluster::Job& job, const RenderOptions& o, const scene::Scene& scene) {
+  const render::PathSettings s = path_settings(o, scene);
+  const render::PathScene path_scene(scene.spheres);
+  host::Camera at(scene.camera.lookfrom, scene.camera.lookat, scene.camera.vup);
+  cluster::FrameExchange exchange(job);
+  std::optional<VideoPipe> video;
+  if (job.is_root()) video.emplace(o.video, s.width, s.height);
+  core::ProgressBar bar("animation", static_cast<std::uint64_t>(o.frames), "frames", !o.quiet && job.is_root(),
+                        std::cerr);
+  for (int i = 0; i < o.frames; ++i) {
+    if (i > 0) at.orbit(o.orbit / o.frames);
+    core::ImageRgb8 rgb;
+    if (exchange.owns(i)) {
+      rgb = render_path_frame(path_scene, scene.camera, at, s);
+      job.test_kill_point();
+      if (!job.is_root()) {
+        exchange.send(std::move(rgb));
+        continue;
+      }
+    } else if (job.is_root()) {
+      rgb = exchange.receive(i, s.width, s.height);
+    } else {
+      continue;
+    }
+    write_quietly(frame_path(o.out, i), rgb);
+    video->add(rgb);
+    bar.add(1);
+  }
+  if (!job.is_root()) return kExitOk;
+  bar.finish();
+  video->finish();
+  std::cerr << "wrote " << o.frames << " frames" << on_ranks(job) << ", " << frame_path(o.out, 0) << " to "
+            << frame_path(o.out, o.frames - 1) << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+int run_render_mpi(const RenderOptions& o) {
+  cluster::Job job;
+  // Every rank checks the options and loads the scene; rank 0, which writes, checks the output paths. The
+  // ranks agree before any work: on bad input all stop, the lowest rank that found it says why, exit 2.
+  std::optional<scene::Scene> scene;
+  std::exception_ptr problem;
+  try {
+    check_options(o);
+    if (job.is_root()) check_outputs(o);
+    scene = load_scene(o.scene);
+  } catch (...) {
+    problem = std::current_exception();
+  }
+  const int failed = job.first_failed_rank(problem != nullptr);
+  if (failed >= 0) {
+    if (failed != job.rank()) return kExitBadInput;
+    try {
+      std::rethrow_exception(problem);
+    } catch (const InputError& e) {
+      if (job.is_root()) throw;
+      throw InputError("rank " + std::to_string(job.rank()) + ": " + e.what());
+    }
+  }
+
+  const StopNotice notice(job.is_root());
+  try {
+    return o.frames > 0 ? run_frames(job, o, *scene) : run_still(job, o, *scene);
+  } catch (const std::exception& e) {
+    // Past the agreement other ranks may be waiting for this one: stop the whole job.
+    const bool bad_input = dynamic_cast<const InputError*>(&e) != nullptr;
+    std::cerr << "tripsitter: " << (bad_input ? "" : "internal error: ") << "rank " << job.rank() << ": " << e.what()
+              << "\n";
+    job.abort(bad_input ? kExitBadInput : kExitInternal);
+  }
+}
+
+}  // namespace tripsitter::cmd
