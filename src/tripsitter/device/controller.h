@@ -4,6 +4,7 @@
 // the data: a pixel that reflects off metals costs its worker more passes over the spheres.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -31,6 +32,8 @@ LineResult schedule_line(const DevicePreset& preset, std::int64_t spheres, std::
                          const Trace& trace) {
   LineResult result;
   const std::int64_t drain = preset.drain_cycles();
+  std::array<std::int64_t, core::kMaxBounces + 1> occupancy{};  // by bounce count
+  for (int k = 0; k <= core::kMaxBounces; ++k) occupancy[static_cast<std::size_t>(k)] = preset.pixel_occupancy(spheres, k);
   for (int w = 0; w < preset.workers; ++w) {
     std::int64_t busy = 0;  // cycles from the start of the line until the worker may start its next pixel
     bool late = false;      // once one pixel is late, every later pixel of the worker is too
@@ -38,7 +41,7 @@ LineResult schedule_line(const DevicePreset& preset, std::int64_t spheres, std::
       core::Rgb444& slot = line[static_cast<std::size_t>(col)];
       if (!late) {
         const core::PixelTrace t = trace(col);
-        busy += preset.pixel_occupancy(spheres, t.bounces);
+        busy += occupancy[static_cast<std::size_t>(t.bounces)];
         late = busy + drain > preset.lead_cycles;
         if (!late) {
           slot = t.colour;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 
 namespace tripsitter::device {
 namespace {
@@ -32,6 +34,29 @@ std::array<int, 2> meeting_range(std::int64_t across, std::int64_t depth, std::i
   }
   return {lo, hi};
 }
+
+// ceil(sqrt(v)) for 0 <= v < 2^62: the double estimate is off by at most one, and the loops make it exact.
+std::int64_t ceil_sqrt(std::int64_t v) {
+  auto s = static_cast<std::int64_t>(std::sqrt(static_cast<double>(v)));
+  while (s * s > v) --s;
+  while ((s + 1) * (s + 1) <= v) ++s;
+  return s * s == v ? s : s + 1;
+}
+
+constexpr int kLeafSpheres = 4;
+
+// The kernel's shading of a camera ray's hit in a narrow world, in 64 bits: num <= b < 2^38.8, |d_k| <= 320,
+// 2a < 2^19.1 and |c_k|, r < 2^28, so n_num = num d_k - 2a c_k < 2^48.2, den = 2a r < 2^47.1 and
+// 7 n_num + 7 den < 2^52: the same integers as FixedArith's, without 128-bit arithmetic.
+struct CameraArith {
+  using Coord = std::int64_t;
+  using Wide = std::int64_t;
+  static int floor_div(Wide n, Wide d) {
+    Wide q = n / d;
+    if (n < 0 && q * d != n) --q;
+    return static_cast<int>(std::clamp<Wide>(q, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+  }
+};
 
 }  // namespace
 
@@ -76,6 +101,11 @@ void FastTracer::load(const SceneMemory& scene) {
     rows[i] = col_lo_[i] <= col_hi_[i] ? meeting_range(s.center.y, s.center.z, r2_[i], kRows, kRows / 2)
                                         : std::array<int, 2>{0, -1};
   }
+  order_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) order_[i] = static_cast<int>(i);
+  balls_.assign(1, Ball{});
+  if (n > 0) build_ball(0, 0, static_cast<int>(n));
+
   row_start_.assign(kRows + 1, 0);
   for (const auto& r : rows)
     for (int y = r[0]; y <= r[1]; ++y) ++row_start_[static_cast<std::size_t>(y) + 1];
@@ -85,6 +115,58 @@ void FastTracer::load(const SceneMemory& scene) {
   for (std::size_t i = 0; i < n; ++i)
     for (int y = rows[i][0]; y <= rows[i][1]; ++y)
       row_spheres_[static_cast<std::size_t>(fill[static_cast<std::size_t>(y)]++)] = static_cast<int>(i);
+}
+
+// The ball's centre is the middle of the members' bounding box (spheres included), its radius the
+// largest ceil(|c_i - centre|) + r_i, so it holds every member whole. Coordinates lie in (-2^29, 2^29), so
+// |c_i - centre| < 2^29.8 and the radius is below 2^30.1.
+void FastTracer::build_ball(std::size_t node, int first, int count) {
+  std::array<std::int64_t, 3> lo{}, hi{}, centre_lo{}, centre_hi{};
+  for (int k = 0; k < 3; ++k) lo[k] = centre_lo[k] = kNarrowLimit * 2, hi[k] = centre_hi[k] = -kNarrowLimit * 2;
+  const auto member = [&](int j) { return static_cast<std::size_t>(order_[static_cast<std::size_t>(j)]); };
+  const auto centre_of = [&](std::size_t i) { return std::array<std::int64_t, 3>{cx_[i], cy_[i], cz_[i]}; };
+  for (int j = first; j < first + count; ++j) {
+    const std::size_t i = member(j);
+    const std::int64_t r = scene_->geometry[i].radius;
+    const auto c = centre_of(i);
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], c[k] - r);
+      hi[k] = std::max(hi[k], c[k] + r);
+      centre_lo[k] = std::min(centre_lo[k], c[k]);
+      centre_hi[k] = std::max(centre_hi[k], c[k]);
+    }
+  }
+  Ball ball;
+  ball.cx = lo[0] + (hi[0] - lo[0]) / 2;
+  ball.cy = lo[1] + (hi[1] - lo[1]) / 2;
+  ball.cz = lo[2] + (hi[2] - lo[2]) / 2;
+  std::int64_t radius = 0;
+  for (int j = first; j < first + count; ++j) {
+    const std::size_t i = member(j);
+    const std::int64_t ox = cx_[i] - ball.cx, oy = cy_[i] - ball.cy, oz = cz_[i] - ball.cz;
+    radius = std::max(radius, ceil_sqrt(ox * ox + oy * oy + oz * oz) + scene_->geometry[i].radius);
+  }
+  ball.r2 = radius * radius;
+  ball.first = first;
+  if (count <= kLeafSpheres) {
+    ball.count = count;
+    balls_[node] = ball;
+    return;
+  }
+  // Split at the median centre along the axis where the centres spread most.
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (centre_hi[k] - centre_lo[k] > centre_hi[static_cast<std::size_t>(axis)] - centre_lo[static_cast<std::size_t>(axis)]) axis = k;
+  const auto begin = order_.begin() + first;
+  std::nth_element(begin, begin + count / 2, begin + count, [&](int a, int b) {
+    return centre_of(static_cast<std::size_t>(a))[static_cast<std::size_t>(axis)] <
+           centre_of(static_cast<std::size_t>(b))[static_cast<std::size_t>(axis)];
+  });
+  ball.left = static_cast<int>(balls_.size());
+  balls_[node] = ball;
+  balls_.resize(balls_.size() + 2);
+  build_ball(static_cast<std::size_t>(ball.left), first, count / 2);
+  build_ball(static_cast<std::size_t>(ball.left) + 1, first + count / 2, count - count / 2);
 }
 
 LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const {
@@ -127,7 +209,15 @@ LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const 
     // pixel is late whatever it shows, so it needs no tracing.
     if (col >= columns_) return core::PixelTrace{core::kBlack, 0};
     const auto c = static_cast<std::size_t>(col);
-    const core::KernelHit<Int128> primary{best[c], best[c] < 0 ? Int128{0} : Int128{best_num[c]}};
+    // The first pass of trace_pixel_with, for the pixels it ends: a miss, or a hit on a sphere that does
+    // not reflect (shaded in 64 bits).
+    if (best[c] < 0) return core::PixelTrace{core::kBackground, 0};
+    if (preset_.max_bounces == 0 || !kernel_surface(scene, best[c]).metal) {
+      const core::KernelRay<std::int64_t> camera{{}, {col - kImagePlane, dy, kImagePlane}};
+      return core::PixelTrace{
+          core::normal_colour<CameraArith>(camera, spheres[static_cast<std::size_t>(best[c])], best_num[c]), 0};
+    }
+    const core::KernelHit<Int128> primary{best[c], Int128{best_num[c]}};
     return core::trace_pixel_with<FixedArith>(
         device_ray(col, row), spheres, surface_of, core::kBackground, preset_.max_bounces,
         [&](const core::KernelRay<Int128>& ray, int excluded, int pass) {
@@ -139,7 +229,9 @@ LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const 
 core::KernelHit<Int128> FastTracer::closest_hit(const core::KernelRay<Int128>& ray, int excluded) const {
   // A reflected ray starts on a sphere (|o_k| <= |c_k| + r + 2) and its direction is scaled to 2^20 per
   // component; beyond |o_k| < 2^30 and |d_k| <= 2^21 take the plain search. Within them, with |c_k| < 2^28:
-  // |oc_k| < 2^30.4, |b| < 2^54, oc.oc < 2^62.3, 4a < 2^45.6, and b^2, 4ac' < 2^108.
+  // |oc_k| < 2^30.4, |b| < 2^54, oc.oc < 2^62.3, 4a < 2^45.6, and b^2, 4ac' < 2^108; against a ball
+  // (centre within 2^29, radius below 2^30.1): |oc_k| < 1.5 2^30, |d.oc| < 2^53.2, oc.oc < 2^62.8, and
+  // the products with a below 2^108.
   constexpr Int128 kOrigin = Int128{1} << 30;
   constexpr Int128 kDirection = Int128{1} << 21;
   for (int k = 0; k < 3; ++k) {
@@ -154,24 +246,41 @@ core::KernelHit<Int128> FastTracer::closest_hit(const core::KernelRay<Int128>& r
   const auto dx = static_cast<std::int64_t>(ray.direction.x);
   const auto dy = static_cast<std::int64_t>(ray.direction.y);
   const auto dz = static_cast<std::int64_t>(ray.direction.z);
-  const std::int64_t four_a = 4 * (dx * dx + dy * dy + dz * dz);
+  const std::int64_t a = dx * dx + dy * dy + dz * dz;
   int best = -1;
   std::int64_t best_num = 0;
-  const int n = static_cast<int>(cx_.size());
-  for (int i = 0; i < n; ++i) {
-    if (i == excluded) continue;
-    const auto s = static_cast<std::size_t>(i);
-    const std::int64_t ocx = cx_[s] - ox, ocy = cy_[s] - oy, ocz = cz_[s] - oz;
-    const std::int64_t b = 2 * (dx * ocx + dy * ocy + dz * ocz);
-    if (b <= 0) continue;  // num = b - sqrt(D) <= 0
-    const std::int64_t c_prime = ocx * ocx + ocy * ocy + ocz * ocz - r2_[s];
-    const Int128 disc = Int128{b} * b - Int128{four_a} * c_prime;
-    if (disc < 0) continue;
-    const std::int64_t num = b - static_cast<std::int64_t>(arith_.sqrt_unit.closed_form(static_cast<UInt128>(disc)));
-    if (num <= 0) continue;
-    if (best < 0 || num < best_num) {
-      best = i;
-      best_num = num;
+  std::array<int, 64> stack;  // depth-first; the hierarchy is at most 20 levels deep for a million spheres
+  std::size_t top = 0;
+  if (!order_.empty()) stack[top++] = 0;
+  while (top > 0) {
+    const Ball& ball = balls_[static_cast<std::size_t>(stack[--top])];
+    const std::int64_t bx = ball.cx - ox, by = ball.cy - oy, bz = ball.cz - oz;
+    const std::int64_t u = dx * bx + dy * by + dz * bz;
+    const Int128 u2 = Int128{u} * u;
+    if (u <= 0 && u2 >= Int128{a} * ball.r2) continue;  // the ball is wholly behind the origin
+    if (u2 < Int128{a} * (bx * bx + by * by + bz * bz - ball.r2)) continue;  // the line misses the ball
+    if (ball.count == 0) {
+      stack[top++] = ball.left;
+      stack[top++] = ball.left + 1;
+      continue;
+    }
+    for (int j = ball.first; j < ball.first + ball.count; ++j) {
+      const int i = order_[static_cast<std::size_t>(j)];
+      if (i == excluded) continue;
+      const auto s = static_cast<std::size_t>(i);
+      const std::int64_t ocx = cx_[s] - ox, ocy = cy_[s] - oy, ocz = cz_[s] - oz;
+      const std::int64_t b = 2 * (dx * ocx + dy * ocy + dz * ocz);
+      if (b <= 0) continue;  // num = b - sqrt(D) <= 0
+      const std::int64_t c_prime = ocx * ocx + ocy * ocy + ocz * ocz - r2_[s];
+      const Int128 disc = Int128{b} * b - Int128{4 * a} * c_prime;
+      if (disc < 0) continue;
+      const std::int64_t num = b - static_cast<std::int64_t>(arith_.sqrt_unit.closed_form(static_cast<UInt128>(disc)));
+      if (num <= 0) continue;
+      // The smallest num, and on a tie the sphere sent first, whatever order the balls are visited in.
+      if (best < 0 || num < best_num || (num == best_num && i < best)) {
+        best = i;
+        best_num = num;
+      }
     }
   }
   return {best, best_num};

@@ -5,6 +5,8 @@
 //    another; a ray can only hit a sphere that both its planes meet, and no ray hits a sphere wholly behind
 //    the camera. So each sphere gets a range of columns and of rows, tested exactly in integers once per
 //    frame, and a line tests only the spheres whose rows hold it, each over its columns;
+//  - reflected rays search a hierarchy of balls around groups of spheres: a ray whose line misses a ball,
+//    or that finds the ball wholly behind its origin, hits none of the spheres inside;
 //  - 64-bit sums and products where the bounds below keep them under 2^63; 128 bits for b^2 and 4ac';
 //  - the square-root unit's closed form (SqrtUnit::closed_form) instead of its step-by-step recurrence.
 // The schedule is the controller's own (schedule_line). Worlds beyond the 64-bit bounds (a coordinate or
@@ -44,8 +46,18 @@ class FastTracer {
   bool narrow() const { return narrow_; }
 
  private:
+  // A ball (integer centre and radius) holding every sphere of a group: a leaf's spheres are
+  // order_[first, first + count); an inner node's two halves are nodes[left] and nodes[left + 1].
+  struct Ball {
+    std::int64_t cx = 0, cy = 0, cz = 0, r2 = 0;  // r2: the radius squared
+    int first = 0, count = 0;                     // count == 0 for an inner node
+    int left = 0;
+  };
+
   // The closest hit of a reflected ray (or any ray whose origin and direction fit the 64-bit bounds).
   core::KernelHit<core::Int128> closest_hit(const core::KernelRay<core::Int128>& ray, int excluded) const;
+  // Builds balls_[node] around order_[first, first + count), and its subtree.
+  void build_ball(std::size_t node, int first, int count);
 
   DevicePreset preset_;
   Controller controller_;
@@ -60,6 +72,9 @@ class FastTracer {
   // Spheres whose rows hold row y, in the order sent: row_spheres_[row_start_[y] .. row_start_[y + 1]).
   std::vector<int> row_start_;
   std::vector<int> row_spheres_;
+  // The hierarchy of balls, balls_[0] the root; order_ the sphere indices grouped by leaf.
+  std::vector<Ball> balls_;
+  std::vector<int> order_;
 };
 
 }  // namespace tripsitter::device

@@ -34,15 +34,17 @@ DevicePreset wide_32_preset() {
 }
 
 // A random world in raw units of the preset: ordinary spheres in view, and the awkward ones — behind the
-// camera, across its plane, around it, off screen, huge, tiny (a raw unit or two), at the formats' limits,
-// near the fast model's 64-bit limit; metals with random albedos, and sometimes no surfaces at all for the
-// last spheres (as v1 words leave them).
+// camera, across its plane, around it, off screen, huge, tiny (a raw unit or a few), at the formats'
+// limits, near the fast model's 64-bit limit; radii of at least one raw unit, as scene memory holds them;
+// metals with random albedos, and sometimes no surfaces at all for the last spheres (as v1 words leave them).
 SceneMemory random_world(const DevicePreset& p, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double scale = static_cast<double>(std::int64_t{1} << p.frac_bits());
   const auto clamp_to = [](const core::FixedFormat& f, double raw) {
     return std::clamp(static_cast<std::int64_t>(raw), f.min_raw(), f.max_raw());
   };
+  // Scene memory never holds a radius of 0 (the receiver rejects it; the shading divides by r).
+  const auto radius_of = [&](double raw) { return std::max<std::int64_t>(1, clamp_to(p.radius, raw)); };
   const auto pick = [&](const core::FixedFormat& f) {  // a raw value at or near one of the format's ends
     const std::int64_t edge = unit(rng) < 0.5 ? f.max_raw() : f.min_raw();
     return edge - (edge > 0 ? 1 : -1) * static_cast<std::int64_t>(rng() % 3);
@@ -78,11 +80,11 @@ SceneMemory random_world(const DevicePreset& p, std::mt19937_64& rng) {
       x = (unit(rng) * 2 - 1) * z;
       y = (unit(rng) * 2 - 1) * z;
       r = 1000 + 20000 * unit(rng);
-    } else if (kind < 0.86) {  // tiny: 0..3 raw units
+    } else if (kind < 0.86) {  // tiny: 1..4 raw units
       z = 20 + 400 * unit(rng);
       x = (unit(rng) * 2 - 1) * z;
       y = (unit(rng) * 2 - 1) * z * 0.75;
-      r = static_cast<double>(rng() % 4) / scale;
+      r = static_cast<double>(1 + rng() % 4) / scale;
     } else {  // at the formats' limits (and, in 32-bit formats, at the fast model's limit)
       std::int64_t raw[4] = {pick(p.x), pick(p.y), pick(p.z), unit(rng) < 0.5 ? p.radius.max_raw() : p.radius.max_raw() / 3};
       if (p.x.total_bits > 29 && unit(rng) < 0.5) {
@@ -95,11 +97,11 @@ SceneMemory random_world(const DevicePreset& p, std::mt19937_64& rng) {
         if (unit(rng) < 0.5) raw[k] = static_cast<std::int64_t>((unit(rng) * 2 - 1) * 500 * scale);
       m.geometry.push_back({{clamp_to(p.x, static_cast<double>(raw[0])), clamp_to(p.y, static_cast<double>(raw[1])),
                              clamp_to(p.z, static_cast<double>(raw[2]))},
-                            clamp_to(p.radius, static_cast<double>(raw[3]))});
+                            radius_of(static_cast<double>(raw[3]))});
       continue;
     }
     m.geometry.push_back({{clamp_to(p.x, x * scale), clamp_to(p.y, y * scale), clamp_to(p.z, z * scale)},
-                          clamp_to(p.radius, r * scale)});
+                          radius_of(r * scale)});
   }
   // Surfaces: a third metal, with albedos anywhere in 0..255; sometimes missing for the last spheres.
   const std::size_t with_surface = unit(rng) < 0.15 ? m.geometry.size() / 2 : m.geometry.size();
@@ -193,8 +195,23 @@ TEST(FastTracer, RowsEqualThePlainModelOnEdgeWorlds) {
   // Equal spheres of different materials: the one sent first wins every tie.
   world({{{0, 0, 400 * s}, 64 * s}, {{0, 0, 400 * s}, 64 * s}, {{0, 0, 400 * s}, 64 * s}}, {kLambertian, kMetal});
   world({{{0, 0, 400 * s}, 64 * s}, {{0, 0, 400 * s}, 64 * s}}, {kMetal, kLambertian});
-  // Centre on the plane of column 100 (x = -220) and of row 40 (y = -200), tangent to neighbouring planes.
-  world({{{-220 * s, -200 * s, 320 * s}, 1}, {{-220 * s, -200 * s, 320 * s}, 0}}, {kLambertian});
+  // The same for reflected rays: a mirror shows pairs of equal spheres behind the camera, sent far apart
+  // among enough others that the search for reflected rays groups them differently.
+  {
+    std::vector<core::KernelSphere<std::int64_t>> g(16, core::KernelSphere<std::int64_t>{{0, 0, 3000 * s}, 10 * s});
+    for (std::size_t i = 0; i < g.size(); ++i) g[i].center.x = (static_cast<std::int64_t>(i) * 60 - 500) * s;
+    g[0] = {{0, 0, 500 * s}, 150 * s};
+    g[1] = g[6] = {{0, 0, -300 * s}, 60 * s};
+    g[7] = g[2] = {{150 * s, 60 * s, -300 * s}, 60 * s};
+    g[3] = g[12] = {{-150 * s, -60 * s, -250 * s}, 60 * s};
+    g[13] = g[4] = {{-150 * s, 90 * s, -280 * s}, 60 * s};
+    g[5] = g[10] = {{150 * s, -90 * s, -260 * s}, 60 * s};
+    world(g, {kMetal, kLambertian, kMetal, kLambertian, kMetal, kLambertian, kMetal, kLambertian, kMetal, kLambertian,
+              kMetal, kMetal, kMetal, kLambertian, kLambertian, kLambertian});
+  }
+  // Centre on the ray of column 100 and row 40 (on the planes of both), the smallest radii.
+  world({{{-220 * s, -200 * s, 320 * s}, 2}, {{-220 * s, -200 * s, 320 * s}, 1}}, {kLambertian});
+  world({{{-220 * s, -200 * s, 320 * s}, 1}}, {kMetal});
   world({{{-320 * s, -240 * s, 320 * s}, 3}, {{319 * s, 239 * s, 320 * s}, 2}}, {kLambertian});
   for (std::size_t w = 0; w < worlds.size(); ++w) {
     const Controller plain(p);
