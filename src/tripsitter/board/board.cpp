@@ -18,9 +18,10 @@ ShownFrame Board::show(const std::function<void(const device::VgaSample&)>& prob
   const host::ReadyWorld& world = host_.update();
   link_.submit(world.bytes);
   const auto run = [&] {
-    return device_.run_frame([&](const device::VgaSample& s) {
-      monitor_.sample(s);
-      if (probe) probe(s);
+    return device_.run_frame_lines([&](std::span<const device::VgaSample> line) {
+      for (const device::VgaSample& s : line) monitor_.sample(s);
+      if (probe)
+        for (const device::VgaSample& s : line) probe(s);
     });
   };
   // A device still holding an earlier world for its next blanking lowers ready: let it show that one first.

@@ -2,8 +2,6 @@
 
 #include <stdexcept>
 
-#include <tripsitter/core/parallel.h>
-
 namespace tripsitter::device {
 namespace {
 
@@ -15,7 +13,9 @@ DevicePreset checked(const DevicePreset& preset) {
 }  // namespace
 
 Device::Device(const DevicePreset& preset, link::WireVersion wire, int threads)
-    : preset_(checked(preset)), receiver_(preset_, wire), controller_(preset_), fast_(preset_), threads_(threads) {
+    : preset_(checked(preset)), receiver_(preset_, wire),
+      controller_(preset_),
+      ahead_(threads == 1 ? nullptr : std::make_unique<FrameLines>(preset_, threads)) {
   // Out of reset at the start of vertical blanking.
   while (vga_.line() != vga_.mode().v_visible) vga_.tick();
 }
@@ -25,16 +25,17 @@ void Device::start_line(int line) {
   if (line == mode.v_visible) {
     // Vertical blanking: a waiting world becomes scene memory, fixed until the next blanking.
     receiver_.swap_if_pending(scene_);
-    if (threads_ != 1) compute_frame_lines();
+    if (ahead_) ahead_->start(scene_);
     building_ = {scene_.sequence, scene_.valid, 0, 0};
   }
   const int next = (line + 1) % mode.v_total();
   if (next < mode.v_visible) {
     auto& back = line_buffers_[static_cast<std::size_t>(1 - front_)];
     LineResult r;
-    if (threads_ != 1) {
-      back = frame_lines_[static_cast<std::size_t>(next)];
-      r.late_pixels = frame_late_[static_cast<std::size_t>(next)];
+    if (ahead_) {
+      const FrameLines::Line& computed = ahead_->line(next);
+      back = computed.pixels;
+      r.late_pixels = computed.late_pixels;
     } else {
       r = controller_.render_line(next, scene_, back);
     }
@@ -45,17 +46,6 @@ void Device::start_line(int line) {
       ++total_late_lines_;
     }
   }
-}
-
-void Device::compute_frame_lines() {
-  const int lines = vga_.mode().v_visible;
-  frame_lines_.resize(static_cast<std::size_t>(lines));
-  frame_late_.resize(static_cast<std::size_t>(lines));
-  fast_.load(scene_);
-  core::parallel_for(0, lines, threads_, [&](int row) {
-    frame_late_[static_cast<std::size_t>(row)] =
-        fast_.render_line(row, frame_lines_[static_cast<std::size_t>(row)]).late_pixels;
-  });
 }
 
 VgaSample Device::tick() {
@@ -70,12 +60,19 @@ VgaSample Device::tick() {
   return s;
 }
 
+FrameStats Device::run_frame(const std::function<void(const VgaSample&)>& sink) {
+  return run_frame_lines([&](std::span<const VgaSample> line) {
+    for (const VgaSample& s : line) sink(s);
+  });
+}
+
 // Line by line, the same samples tick() would give: syncs from the counters, colours from the front
 // buffer, the buffers swapping at each line's end.
-FrameStats Device::run_frame(const std::function<void(const VgaSample&)>& sink) {
+FrameStats Device::run_frame_lines(const std::function<void(std::span<const VgaSample>)>& line_sink) {
   const VgaMode& mode = vga_.mode();
   if (vga_.line() != mode.v_visible || vga_.column() != 0)
     throw std::logic_error("run_frame: the device is not at the start of vertical blanking");
+  std::vector<VgaSample> samples(static_cast<std::size_t>(mode.h_total()));
   for (int i = 0; i < mode.v_total(); ++i) {
     const int line = vga_.line();
     start_line(line);
@@ -83,9 +80,11 @@ FrameStats Device::run_frame(const std::function<void(const VgaSample&)>& sink) 
     const auto& front = line_buffers_[static_cast<std::size_t>(front_)];
     const int shown = line < mode.v_visible ? mode.h_visible : 0;
     for (int col = 0; col < mode.h_total(); ++col)
-      sink({vga_.hsync_n_at(col), vsync_n, col < shown ? front[static_cast<std::size_t>(col)] : core::kBlack});
+      samples[static_cast<std::size_t>(col)] = {vga_.hsync_n_at(col), vsync_n,
+                                                col < shown ? front[static_cast<std::size_t>(col)] : core::kBlack};
     front_ = 1 - front_;
     vga_.tick_line();
+    line_sink(samples);
   }
   return building_;
 }

@@ -10,12 +10,13 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include <tripsitter/core/rgb444.h>
 #include <tripsitter/device/controller.h>
-#include <tripsitter/device/fast_tracer.h>
+#include <tripsitter/device/frame_lines.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/receiver.h>
 #include <tripsitter/device/scene_memory.h>
@@ -36,8 +37,9 @@ class Device : public link::Endpoint {
  public:
   // REQUIRES preset.validate() is empty. `threads` only changes how fast the model runs, never what it
   // shows: 1 computes each line when the controller starts it, pixel by pixel with Worker::trace (the
-  // plain model); any other value computes a frame's lines with the fast model (FastTracer) on that many
-  // threads (0: all cores) when its world is fixed, at the start of vertical blanking.
+  // plain model); any other value computes a frame's lines with the fast model (FastTracer) ahead of the
+  // beam from the start of vertical blanking, on that many threads counting the caller's (0: every core;
+  // FrameLines).
   Device(const DevicePreset& preset, link::WireVersion wire, int threads = 0);
 
   // link::Endpoint: the ready line and one SPI transfer.
@@ -51,6 +53,8 @@ class Device : public link::Endpoint {
   // visible line; every sample goes to `sink`. Returns the statistics of the frame drawn.
   // REQUIRES the device to be at the start of vertical blanking (as after reset or run_frame).
   FrameStats run_frame(const std::function<void(const VgaSample&)>& sink);
+  // The same frame a line at a time: `line_sink` gets each line's h_total samples, in order.
+  FrameStats run_frame_lines(const std::function<void(std::span<const VgaSample>)>& line_sink);
 
   // Statistics of the frame being drawn since the last vertical blanking.
   const FrameStats& current_frame() const { return building_; }
@@ -62,19 +66,14 @@ class Device : public link::Endpoint {
 
  private:
   void start_line(int line);
-  void compute_frame_lines();
 
   DevicePreset preset_;
   Receiver receiver_;
   Controller controller_;
-  FastTracer fast_;
   SceneMemory scene_;
   VgaTimingGenerator vga_;
   std::array<std::array<core::Rgb444, kLineWidth>, 2> line_buffers_{};
-  int threads_;
-  // threads_ != 1: the lines of the frame being drawn, computed ahead, with their late pixel counts.
-  std::vector<std::array<core::Rgb444, kLineWidth>> frame_lines_;
-  std::vector<int> frame_late_;
+  std::unique_ptr<FrameLines> ahead_;  // the fast model's lines (threads != 1), else null
   int front_ = 0;  // index of the line buffer the VGA block reads
   FrameStats building_;
   std::uint64_t total_late_pixels_ = 0;

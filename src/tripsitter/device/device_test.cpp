@@ -190,11 +190,12 @@ TEST(Device, RunFrameGivesTheSamplesOfTick) {
 }
 
 // The fast model (threads != 1) against the plain one, whole frames through the wire and the VGA signal,
-// with mirrors: the same pixels and the same late pixels and lines, frame after frame.
+// with mirrors: the same pixels and the same late pixels and lines, frame after frame; with one helper
+// thread, and with three driven a clock at a time.
 TEST(Device, FastFramesWithMirrorsEqualThePlainModel) {
   std::mt19937 rng(21);
   for (const DevicePreset& p : {wide_preset(), board_2023_preset()}) {
-    Device plain(p, link::WireVersion::kV2, 1), fast(p, link::WireVersion::kV2, 2);
+    Device plain(p, link::WireVersion::kV2, 1), fast(p, link::WireVersion::kV2, 2), ticked(p, link::WireVersion::kV2, 4);
     for (int world = 0; world < 3; ++world) {
       std::vector<std::array<double, 4>> spheres;
       std::vector<std::array<std::uint8_t, 3>> albedos;
@@ -207,8 +208,17 @@ TEST(Device, FastFramesWithMirrorsEqualThePlainModel) {
       const auto bytes = metal_frame(p, static_cast<std::uint32_t>(world + 1), spheres, albedos);
       plain.transfer(bytes);
       fast.transfer(bytes);
+      ticked.transfer(bytes);
       FrameStats a, b;
-      ASSERT_EQ(visible_pixels(plain, &a), visible_pixels(fast, &b)) << p.name << " world " << world;
+      const auto expected = visible_pixels(plain, &a);
+      ASSERT_EQ(expected, visible_pixels(fast, &b)) << p.name << " world " << world;
+      std::vector<core::Rgb444> by_tick;
+      for (int clock = 0; clock < 800 * 525; ++clock) {
+        const VgaSample s = ticked.tick();
+        if ((480 + clock / 800) % 525 < 480 && clock % 800 < 640) by_tick.push_back(s.colour);
+      }
+      ASSERT_EQ(expected, by_tick) << p.name << " world " << world;
+      EXPECT_EQ(ticked.current_frame().late_pixels, a.late_pixels);
       EXPECT_EQ(a.late_pixels, b.late_pixels);
       EXPECT_EQ(a.late_lines, b.late_lines);
       EXPECT_EQ(a.sequence, b.sequence);
@@ -218,6 +228,7 @@ TEST(Device, FastFramesWithMirrorsEqualThePlainModel) {
     }
     EXPECT_EQ(plain.total_late_pixels(), fast.total_late_pixels());
     EXPECT_EQ(plain.total_late_lines(), fast.total_late_lines());
+    EXPECT_EQ(plain.total_late_lines(), ticked.total_late_lines());
   }
 }
 
