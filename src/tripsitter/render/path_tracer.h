@@ -37,6 +37,10 @@ class PathScene {
   // The surface point of a hit, its normal facing the ray.
   SurfacePoint surface(const Ray& ray, const SphereHit& hit) const;
   const PathMaterial& material(std::uint32_t sphere) const { return materials_[sphere]; }
+  const Vec3f& center(std::uint32_t sphere) const { return centers_[sphere]; }
+  float radius(std::uint32_t sphere) const { return radii_[sphere]; }
+  std::span<const Vec3f> centers() const { return centers_; }
+  std::span<const float> radii() const { return radii_; }
 
  private:
   std::vector<Vec3f> centers_;
