@@ -83,7 +83,7 @@ constexpr float kSphereCost = 1.0f;
 // Below this depth splits follow the SAH; deeper, at the median, which halves the count. Depth therefore stays
 // under kMaxSahDepth + log2(2^32 / kMaxLeafSize) <= 62 < kStackSize, whatever the distribution.
 constexpr std::uint32_t kMaxSahDepth = 32;
-constexpr int kStackSize = 64;
+constexpr int kStackSize = Bvh::kMaxDepth;
 
 struct Box {
   Vec3f lo{kInf, kInf, kInf};

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -35,6 +36,21 @@ class Bvh {
   std::size_t node_count() const;
   std::size_t memory_bytes() const;  // of everything the structure holds
 
+  struct Sphere {
+    Vec3f center;
+    float radius;
+  };
+
+  // Depth-first traversal for queries other than one ray (a tile of rays, say). `reach(lo, hi)` returns the
+  // distance at which the query reaches the box [lo, hi], or +inf when it cannot; of two children the nearer is
+  // visited first, and a box is skipped when its distance exceeds `limit()` at the time it comes up. `leaf(spheres,
+  // original, count)` gets `count` spheres in leaf order and their indices in the arrays the BVH was built from.
+  template <class Reach, class Limit, class Leaf>
+  void traverse(Reach&& reach, Limit&& limit, Leaf&& leaf) const;
+
+  // The deepest a BVH gets (see bvh.cpp): depth-first traversals keep at most this many pending children.
+  static constexpr int kMaxDepth = 64;
+
  private:
   // Implementation state, free to change; see bvh.cpp for the layout's reasons and invariants.
 
@@ -46,13 +62,41 @@ class Bvh {
     std::uint32_t first[2];    // inner child: its node index; leaf child: its first sphere in leaf order
     std::uint32_t count[2];    // kInner, or the leaf's number of spheres (0 only for the empty child of a 1-sphere root)
   };
-  struct Sphere {
-    Vec3f center;
-    float radius;
-  };
   std::vector<Node> nodes_;            // nodes_[0] is the root; empty when built over no spheres
   std::vector<Sphere> spheres_;        // in leaf order
   std::vector<std::uint32_t> index_;   // leaf order -> original index
 };
+
+template <class Reach, class Limit, class Leaf>
+void Bvh::traverse(Reach&& reach, Limit&& limit, Leaf&& leaf) const {
+  if (nodes_.empty()) return;
+  struct Pending {
+    std::uint32_t first, count;
+    float distance;
+  };
+  Pending stack[kMaxDepth + 1];
+  int size = 0;
+  stack[size++] = {0, Node::kInner, 0.0f};
+  while (size > 0) {
+    const Pending p = stack[--size];
+    if (p.distance > limit()) continue;
+    if (p.count != Node::kInner) {
+      leaf(&spheres_[p.first], &index_[p.first], p.count);
+      continue;
+    }
+    const Node& n = nodes_[p.first];
+    float distance[2];
+    for (int k = 0; k < 2; ++k) {
+      const float lo[3] = {n.bounds[k], n.bounds[4 + k], n.bounds[8 + k]};
+      const float hi[3] = {n.bounds[2 + k], n.bounds[6 + k], n.bounds[10 + k]};
+      distance[k] = n.count[k] == 0 ? std::numeric_limits<float>::infinity() : reach(lo, hi);
+    }
+    // The farther child is pushed first, so the nearer one is visited next.
+    const int near = distance[1] < distance[0] ? 1 : 0;
+    for (int k : {1 - near, near}) {
+      if (distance[k] < std::numeric_limits<float>::infinity()) stack[size++] = {n.first[k], n.count[k], distance[k]};
+    }
+  }
+}
 
 }  // namespace tripsitter::render
