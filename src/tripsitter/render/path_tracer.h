@@ -85,6 +85,8 @@ void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, cons
 
 // The IEC 61966-2-1 sRGB transfer function of a linear value clamped to [0, 1], to 8 bits.
 std::uint8_t srgb_encode(float linear);
+// Every channel through srgb_encode (by table: the same bytes, without pow), after multiplying by `scale`.
 core::ImageRgb8 to_srgb8(const ImageRgbF& image);
+core::ImageRgb8 to_srgb8(const ImageRgbF& image, float scale);
 
 }  // namespace tripsitter::render
