@@ -1,15 +1,27 @@
-// tripsitter bench: frames per second of the board model and of the float reference.
+// tripsitter bench: the fixed benchmark suite (hw_fps_N, primary_mrays_N, path_msamples_field, path_fps_field),
+// or one scene file in one mode. Every figure is the median of several timed runs, on one thread and on all.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include <tripsitter/board/board.h>
-#include <tripsitter/render/normal.h>
+#include <tripsitter/core/parallel.h>
+#include <tripsitter/frontend/app.h>
+#include <tripsitter/render/path_tracer.h>
+#include <tripsitter/render/primary.h>
 #include <tripsitter/scene/builtin.h>
+#if defined(TRIPSITTER_HAVE_EMBREE)
+#include <tripsitter/render/embree_primary.h>
+#endif
 
 #include "commands.h"
 #include "common.h"
@@ -17,47 +29,239 @@
 namespace tripsitter::cmd {
 namespace {
 
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
 struct BenchOptions {
-  double seconds = 1.0;  // per figure, at least
+  double seconds = 1.0;  // per run, at least
   int runs = 3;          // the median of these is reported
+  bool json = false;
+  bool embree = true;
+  std::string scene;     // --scene: one file (or built-in name) instead of the suite
+  std::string mode = "normal";
+  int threads = 0;       // --threads: only this count (0: 1 and all)
 };
 
-// Median frames per second of `frame` over `runs` runs of at least `seconds` each.
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// Median over `runs` runs of (work units done / seconds), each run repeating `unit()` (which returns the work
+// it did) for at least `seconds`.
 template <class F>
-double median_fps(const BenchOptions& o, F&& frame) {
-  std::vector<double> fps;
+double median_rate(const BenchOptions& o, F&& unit) {
+  std::vector<double> rates;
   for (int run = 0; run < o.runs; ++run) {
-    const auto start = std::chrono::steady_clock::now();
-    int frames = 0;
-    double elapsed = 0;
+    const auto start = Clock::now();
+    double work = 0, elapsed = 0;
     do {
-      frame();
-      ++frames;
-      elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      work += unit();
+      elapsed = seconds_since(start);
     } while (elapsed < o.seconds);
-    fps.push_back(frames / elapsed);
+    rates.push_back(work / elapsed);
   }
-  std::sort(fps.begin(), fps.end());
-  return fps[fps.size() / 2];
+  std::sort(rates.begin(), rates.end());
+  return rates[rates.size() / 2];
 }
 
-int run_bench(const BenchOptions& o) {
-  std::printf("machine: %u hardware threads; hw computes a frame's lines on all of them, normal uses one;\n"
-              "median of %d runs of at least %.1f s\n",
-              std::thread::hardware_concurrency(), o.runs, o.seconds);
-  std::printf("%-28s %12s\n", "figure", "frames/s");
-  for (int n : {1, 16, 64}) {
-    board::Board b(scene::random_spheres(n, 1), {});
-    const double fps = median_fps(o, [&] { b.show(); });
-    std::printf("%-28s %12.2f\n", ("hw_fps_" + std::to_string(n)).c_str(), fps);
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      const auto colon = line.find(':');
+      if (colon != std::string::npos) return line.substr(line.find_first_not_of(' ', colon + 1));
+    }
   }
-  for (int n : {1, 16, 64}) {
-    host::Host h(scene::random_spheres(n, 1), board::formats_of(device::wide_preset()), link::WireVersion::kV2);
-    const auto& world = h.update();
-    const int bounces = device::wide_preset().max_bounces;
-    const double fps = median_fps(o, [&] { render::render_normal(world.view_spheres, 640, 480, bounces); });
-    std::printf("%-28s %12.2f\n", ("normal_fps_" + std::to_string(n)).c_str(), fps);
+  return "unknown";
+}
+
+json machine() {
+  json m;
+  m["cpu"] = cpu_model();
+  m["hardware_threads"] = core::thread_count(0);
+#if defined(__x86_64__) || defined(__i386__)
+  m["avx2"] = __builtin_cpu_supports("avx2") != 0;
+  m["fma"] = __builtin_cpu_supports("fma") != 0;
+  m["avx512f"] = __builtin_cpu_supports("avx512f") != 0;
+#endif
+#if defined(__clang__)
+  m["compiler"] = "clang " + std::string(__clang_version__);
+#else
+  m["compiler"] = "g++ " + std::string(__VERSION__);
+#endif
+#if defined(NDEBUG)
+  m["assertions"] = false;
+#else
+  m["assertions"] = true;
+#endif
+#if defined(TRIPSITTER_HAVE_EMBREE)
+  m["embree"] = render::embree_version();
+#else
+  m["embree"] = nullptr;
+#endif
+  return m;
+}
+
+// Prints figures as they are measured (a table, or progress on stderr when the result is JSON) and keeps
+// them for the JSON object.
+class Report {
+ public:
+  explicit Report(const BenchOptions& o) : o_(o) {
+    doc_["machine"] = machine();
+    doc_["runs"] = o.runs;
+    doc_["seconds_per_run"] = o.seconds;
+    if (o.json) return;
+    const json& m = doc_["machine"];
+    std::printf("machine: %s, %d hardware threads", m["cpu"].get<std::string>().c_str(), m["hardware_threads"].get<int>());
+    if (m.contains("avx2"))
+      std::printf(" (AVX2 %s, FMA %s, AVX-512 %s)", m["avx2"].get<bool>() ? "yes" : "no", m["fma"].get<bool>() ? "yes" : "no",
+                  m["avx512f"].get<bool>() ? "yes" : "no");
+    std::printf("\ncompiler: %s%s; Embree: %s\n", m["compiler"].get<std::string>().c_str(),
+                m["assertions"].get<bool>() ? " (assertions on: not an optimised build)" : "",
+                m["embree"].is_null() ? "not built in" : m["embree"].get<std::string>().c_str());
+    std::printf("each figure: median of %d runs of at least %.2f s\n\n", o.runs, o.seconds);
+    std::printf("%-24s %7s %12s  %-10s %12s  %-16s %8s\n", "figure", "threads", "value", "unit", "Embree", "Embree's best",
+                "ours/Embree");
   }
+
+  void note(const std::string& key, const json& value) { doc_[key] = value; }
+
+  void add(const std::string& figure, int threads, double value, const std::string& unit,
+           std::optional<std::pair<double, std::string>> embree = std::nullopt) {
+    json& f = doc_[figure];
+    f["unit"] = unit;
+    const std::string t = "threads_" + std::to_string(threads);
+    f[t] = value;
+    if (embree) {
+      f["embree_" + t] = embree->first;
+      f["embree_mode_" + t] = embree->second;
+      f["ratio_" + t] = value / embree->first;
+    }
+    if (o_.json) {
+      std::cerr << figure << " on " << threads << " thread(s): " << value << " " << unit << "\n";
+      return;
+    }
+    std::printf("%-24s %7d %12.2f  %-10s", figure.c_str(), threads, value, unit.c_str());
+    if (embree) std::printf(" %12.2f  %-16s %8.2f", embree->first, embree->second.c_str(), value / embree->first);
+    std::printf("\n");
+    std::fflush(stdout);
+  }
+
+  void finish() {
+    if (o_.json) std::cout << doc_.dump(2) << "\n";
+  }
+
+ private:
+  const BenchOptions& o_;
+  json doc_;
+};
+
+std::vector<int> thread_counts(const BenchOptions& o) {
+  if (o.threads > 0) return {o.threads};
+  const int all = core::thread_count(0);
+  return all > 1 ? std::vector<int>{1, all} : std::vector<int>{1};
+}
+
+// hw: frames through host -> link -> device -> VGA capture.
+void bench_hw(const BenchOptions& o, Report& r, const std::string& figure, const scene::Scene& scene) {
+  for (int t : thread_counts(o)) {
+    board::BoardConfig config;
+    config.device_threads = t;
+    board::Board b(scene, config);
+    r.add(figure, t, median_rate(o, [&] { b.show(); return 1.0; }), "frames/s");
+  }
+}
+
+// Primary rays at 640x480, and Embree on the same rays where it is built in.
+void bench_primary(const BenchOptions& o, Report& r, const std::string& figure, const render::PathScene& scene,
+                   const scene::CameraSettings& camera_settings) {
+  constexpr int kW = 640, kH = 480;
+  const render::ThinLensCamera camera(camera_settings, kW, kH);
+  const double mrays = kW * kH / 1e6;
+  for (int t : thread_counts(o)) {
+    const render::PrimarySettings s{.width = kW, .height = kH, .threads = t};
+    const double ours = median_rate(o, [&] { render::render_primary(scene, camera, s); return mrays; });
+    std::optional<std::pair<double, std::string>> best;
+#if defined(TRIPSITTER_HAVE_EMBREE)
+    if (o.embree) {
+      const render::EmbreePrimary embree(scene, t);
+      for (auto packet : {render::EmbreePacket::k1, render::EmbreePacket::k8, render::EmbreePacket::k16}) {
+        const double theirs = median_rate(o, [&] { embree.render(camera, s, packet); return mrays; });
+        if (!best || theirs > best->first) best = {theirs, render::to_string(packet)};
+      }
+    }
+#endif
+    r.add(figure, t, ours, "Mrays/s", best);
+  }
+}
+
+// Path tracing at the scene's size and depth, one sample per pixel per pass.
+void bench_path(const BenchOptions& o, Report& r, const std::string& figure, const render::PathScene& scene,
+                const scene::Scene& sc) {
+  const render::ThinLensCamera camera(sc.camera, sc.render.width, sc.render.height);
+  std::uint64_t seed = 1;
+  for (int t : thread_counts(o)) {
+    const render::PathSettings s{.width = sc.render.width, .height = sc.render.height, .spp = 1,
+                                 .max_depth = sc.render.max_depth, .seed = 1, .threads = t, .sky = {}};
+    const double msamples = static_cast<double>(s.width) * s.height / 1e6;
+    r.add(figure, t, median_rate(o, [&] {
+            render::PathSettings pass = s;
+            pass.seed = seed++;
+            render::render_path(scene, camera, pass);
+            return msamples;
+          }), "Msamples/s");
+  }
+}
+
+// The window's path mode without the window: one more sample per pixel per frame, accumulated and encoded.
+void bench_path_interactive(const BenchOptions& o, Report& r, const std::string& figure, const scene::Scene& sc) {
+  for (int t : thread_counts(o)) {
+    frontend::AppConfig config;
+    config.scene = sc;
+    config.mode = frontend::Mode::kPath;
+    config.threads = t;
+    frontend::App app(config);
+    r.add(figure, t, median_rate(o, [&] { app.advance(0.0); return 1.0; }), "frames/s");
+  }
+}
+
+int run_suite(const BenchOptions& o) {
+  Report r(o);
+  for (int n : {1, 16, 64, 256}) bench_hw(o, r, "hw_fps_" + std::to_string(n), scene::random_spheres(n, 1));
+  const scene::Scene field = *scene::builtin("field");
+  for (int n : {1, 16, 488, 10000, 1000000}) {
+    const scene::Scene sc = n == 488 ? field : scene::random_spheres(n, 1);
+    const render::PathScene scene(sc.spheres);
+    bench_primary(o, r, "primary_mrays_" + std::to_string(n), scene, sc.camera);
+  }
+  {
+    scene::Scene sc = field;
+    sc.render = {640, 360, 1, 50};
+    bench_path(o, r, "path_msamples_field", render::PathScene(sc.spheres), sc);
+  }
+  bench_path_interactive(o, r, "path_fps_field", field);
+  r.finish();
+  return kExitOk;
+}
+
+int run_scene(const BenchOptions& o) {
+  Report r(o);
+  auto start = Clock::now();
+  const scene::Scene sc = load_scene(o.scene);
+  r.note("scene", {{"name", o.scene}, {"spheres", sc.spheres.size()}, {"mode", o.mode}, {"load_seconds", seconds_since(start)}});
+  if (!o.json)
+    std::printf("scene %s: %zu spheres, loaded in %.3f s\n", o.scene.c_str(), sc.spheres.size(), seconds_since(start));
+  if (o.mode == "hw") {
+    bench_hw(o, r, "hw_fps", sc);
+  } else {
+    start = Clock::now();
+    const render::PathScene scene(sc.spheres);
+    const double build = seconds_since(start);
+    r.note("build_seconds", build);
+    if (!o.json) std::printf("BVH built in %.3f s\n", build);
+    if (o.mode == "normal") bench_primary(o, r, "primary_mrays", scene, sc.camera);
+    else bench_path(o, r, "path_msamples", scene, sc);
+  }
+  r.finish();
   return kExitOk;
 }
 
@@ -66,10 +270,33 @@ int run_bench(const BenchOptions& o) {
 void add_bench_command(CLI::App& app, Action& run) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "bench", "Frames per second at 640x480: the board model (hw) and the float reference (normal), 1/16/64 spheres");
+      "bench",
+      "Measures speed. Without --scene, the fixed suite: hw_fps_N (device model, host -> link -> device -> VGA, "
+      "N = 1, 16, 64, 256 spheres), primary_mrays_N (one primary ray per pixel, normal shading, 640x480, N = 1, 16, "
+      "488 (field), 10000, 1000000; compared with Embree where built in), path_msamples_field (path tracer, field, "
+      "640x360, depth 50) and path_fps_field (the window's path mode, 640x480, 1 sample per pixel per frame), each on "
+      "1 thread and on all");
   cmd->add_option("--seconds", o->seconds, "Minimum time per run")->capture_default_str()->check(CLI::Range(0.0, 600.0));
   cmd->add_option("--runs", o->runs, "Runs per figure; the median is reported")->capture_default_str()->check(CLI::Range(1, 101));
-  cmd->callback([o, &run] { run = [o] { return run_bench(*o); }; });
+  cmd->add_flag("--json", o->json, "Print one JSON object (a key per figure, the machine first) instead of the table");
+  cmd->add_flag("!--no-embree", o->embree, "Do not measure Embree, even where it is built in");
+  cmd->add_option("--scene", o->scene,
+                  "Measure this scene file (or built-in scene) instead of the suite: loading and BVH build timed apart "
+                  "from the frames");
+  cmd->add_option("--mode", o->mode,
+                  "With --scene: hw (device model, frames/s), normal (primary rays at 640x480, Mrays/s, with Embree) or "
+                  "path (path tracer at the scene's size and depth, Msamples/s)")
+      ->capture_default_str();
+  cmd->add_option("--threads", o->threads, "Only this many threads (default: 1 and all)")->check(CLI::Range(1, 1024));
+  cmd->callback([o, cmd, &run] {
+    const bool mode_given = cmd->count("--mode") > 0;
+    run = [o, mode_given] {
+      if (o->mode != "hw" && o->mode != "normal" && o->mode != "path")
+        throw InputError("--mode must be hw, normal or path, not '" + o->mode + "'");
+      if (o->scene.empty() && mode_given) throw InputError("--mode needs --scene FILE");
+      return o->scene.empty() ? run_suite(*o) : run_scene(*o);
+    };
+  });
 }
 
 }  // namespace tripsitter::cmd

@@ -94,15 +94,11 @@ void App::render_frame() {
                              .max_depth = config_.scene.render.max_depth,
                              .seed = config_.seed + static_cast<std::uint64_t>(accumulated_spp_),
                              .threads = config_.threads, .sky = {}};
-      const render::ImageRgbF pass = render::render_path(*path_scene_, render::ThinLensCamera(cam, kWidth, kHeight), s);
+      if (pass_.pixels.size() != accumulated_.pixels.size()) pass_ = accumulated_;
+      render::render_path_rows(*path_scene_, render::ThinLensCamera(cam, kWidth, kHeight), s, 0, 1, pass_);
       ++accumulated_spp_;
-      render::ImageRgbF mean{kWidth, kHeight, std::vector<render::Vec3f>(pass.pixels.size())};
-      const float inv = 1.0f / static_cast<float>(accumulated_spp_);
-      for (std::size_t i = 0; i < pass.pixels.size(); ++i) {
-        accumulated_.pixels[i] += pass.pixels[i];
-        mean.pixels[i] = accumulated_.pixels[i] * inv;
-      }
-      frame_ = render::to_srgb8(mean);
+      for (std::size_t i = 0; i < pass_.pixels.size(); ++i) accumulated_.pixels[i] += pass_.pixels[i];
+      frame_ = render::to_srgb8(accumulated_, 1.0f / static_cast<float>(accumulated_spp_));
       info_.samples = accumulated_spp_;
       break;
     }

@@ -80,6 +80,7 @@ class App {
   board::Board board_;  // hw: the whole path; other modes use its host (camera, world, view transform)
   std::unique_ptr<render::PathScene> path_scene_;
   render::ImageRgbF accumulated_;  // path mode: sum of samples
+  render::ImageRgbF pass_;         // path mode: the frame's new sample per pixel
   int accumulated_spp_ = 0;
   std::array<bool, 11> held_{};
   bool dirty_ = true;   // the camera or world changed since the last frame

@@ -6,6 +6,10 @@
 // exits padded as in Ize, "Robust BVH Ray Traversal", 2013), so the BVH returns brute force's answer. The exceptions
 // are hits decided by rounding alone: two spheres whose t differ by no more than float rounding (either may be
 // returned), or a ray grazing a sphere at one of its box's faces (the hit may be dropped).
+//
+// Leaves are tested four spheres at a time with SSE. Each lane performs the scalar kernel's operations in its order
+// (the render library is compiled with -ffp-contract=off, so no multiply-add is ever fused), so lanes and scalar
+// calls give the same t.
 #include <tripsitter/render/bvh.h>
 
 #include <algorithm>
@@ -13,9 +17,8 @@
 #include <cmath>
 #include <limits>
 
-#if defined(__SSE2__)
+#include <xmmintrin.h>
 #include <emmintrin.h>
-#endif
 
 namespace tripsitter::render {
 namespace {
@@ -39,10 +42,9 @@ KernelRay make_kernel_ray(const Ray& ray) {
 // The root chosen by t_min alone: the near root if it lies beyond t_min, else the far root if that does.
 // Callers then require t < t_max; since far >= near this equals choosing within (t_min, t_max) directly,
 // and it lets the BVH compare against a t_max that shrinks without changing which root a sphere offers.
-// Kept out of line so that one compiled copy serves every caller: inlined copies may be contracted into FMAs
-// differently (-ffp-contract=fast with -march=native), and then brute force and BVH would round near-ties apart.
-// Costs ~1.5% of BVH throughput.
-[[gnu::noinline]] bool sphere_root(const KernelRay& ray, const Vec3f& center, float radius, float t_min, float& t) {
+// sphere_roots (below) and primary.cpp's tiles repeat these operations lane by lane; with -ffp-contract=off for
+// the whole library no copy fuses a multiply-add, so every copy rounds alike.
+bool sphere_root(const KernelRay& ray, const Vec3f& center, float radius, float t_min, float& t) {
   // Solve a t^2 + 2 b t + c = 0, a = |d|^2, b = oc.d, c = |oc|^2 - r^2. The quarter discriminant b^2 - a c is
   // rewritten as a (r^2 - |f|^2), f = oc - (b/a) d being the vector from the centre to the ray's closest approach:
   // b^2 and a c are huge and nearly equal for a sphere far larger or farther away than its distance to the line,
@@ -83,7 +85,7 @@ constexpr float kSphereCost = 1.0f;
 // Below this depth splits follow the SAH; deeper, at the median, which halves the count. Depth therefore stays
 // under kMaxSahDepth + log2(2^32 / kMaxLeafSize) <= 62 < kStackSize, whatever the distribution.
 constexpr std::uint32_t kMaxSahDepth = 32;
-constexpr int kStackSize = 64;
+constexpr int kStackSize = Bvh::kMaxDepth;
 
 struct Box {
   Vec3f lo{kInf, kInf, kInf};
@@ -134,11 +136,19 @@ struct Split {
   Box left, right;
 };
 
-// Builds the node array over refs, reordering refs into leaf order. A template over the node type only because
-// Bvh::Node is private to Bvh; it is instantiated once, from Bvh::build.
-template <class Node>
+// A node of the binary tree the builder makes, collapsed into Bvh::Node afterwards.
+struct BinaryNode {
+  static constexpr std::uint32_t kInner = 0xffffffff;
+  Box box[2];
+  std::uint32_t first[2];
+  std::uint32_t count[2];  // kInner, or the leaf's number of spheres (0 only for the empty child of a 1-sphere root)
+};
+
+// Builds the binary tree over refs, reordering refs into leaf order.
 class Builder {
  public:
+  using Node = BinaryNode;
+
   Builder(std::vector<PrimRef>& refs, std::vector<Node>& nodes) : refs_(refs), nodes_(nodes) {}
 
   void run() {
@@ -275,10 +285,7 @@ class Builder {
 
   void set_child(std::uint32_t node, int slot, const Box& box, std::uint32_t first, std::uint32_t count) {
     Node& n = nodes_[node];
-    for (int a = 0; a < 3; ++a) {
-      n.bounds[4 * a + slot] = box.lo[a];
-      n.bounds[4 * a + 2 + slot] = box.hi[a];
-    }
+    n.box[slot] = box;
     n.first[slot] = first;
     n.count[slot] = count;
   }
@@ -288,62 +295,142 @@ class Builder {
   std::vector<Task> tasks_;
 };
 
+// Collapses the binary tree into 4-wide nodes: a node takes its binary node's two children and, while it has
+// room, replaces the inner child of largest surface area by that child's two children.
+template <class Node>
+void collapse(const std::vector<BinaryNode>& binary, std::vector<Node>& nodes) {
+  struct Slot {
+    Box box;
+    std::uint32_t first, count;
+  };
+  struct Task {
+    std::uint32_t binary, node;
+  };
+  std::vector<Task> tasks{{0, 0}};
+  nodes.emplace_back();
+  while (!tasks.empty()) {
+    const Task task = tasks.back();
+    tasks.pop_back();
+    Slot slots[4];
+    int used = 0;
+    const BinaryNode& b = binary[task.binary];
+    for (int k = 0; k < 2; ++k) slots[used++] = {b.box[k], b.first[k], b.count[k]};
+    while (used < 4) {
+      int widest = -1;
+      for (int k = 0; k < used; ++k) {
+        if (slots[k].count == BinaryNode::kInner && (widest < 0 || slots[k].box.half_area() > slots[widest].box.half_area()))
+          widest = k;
+      }
+      if (widest < 0) break;
+      const BinaryNode& child = binary[slots[widest].first];
+      slots[widest] = {child.box[0], child.first[0], child.count[0]};
+      slots[used++] = {child.box[1], child.first[1], child.count[1]};
+    }
+    for (int k = 0; k < 4; ++k) {
+      const Slot slot = k < used ? slots[k] : Slot{Box{}, 0, 0};
+      std::uint32_t first = slot.first;
+      if (slot.count == BinaryNode::kInner) {
+        first = static_cast<std::uint32_t>(nodes.size());
+        nodes.emplace_back();
+        tasks.push_back({slot.first, first});
+      }
+      Node& n = nodes[task.node];  // after emplace_back: the vector may have moved
+      for (int a = 0; a < 3; ++a) {
+        n.bounds[2 * a][k] = slot.count == 0 ? kInf : slot.box.lo[a];
+        n.bounds[2 * a + 1][k] = slot.count == 0 ? -kInf : slot.box.hi[a];
+      }
+      n.first[k] = first;
+      n.count[k] = slot.count == BinaryNode::kInner ? Node::kInner : slot.count;
+    }
+  }
+}
+
 // Widens slab exits by the worst rounding of (plane - origin) * inv_dir, so culling never drops a box the ray
 // enters (Ize 2013: 1 + 2 gamma(3)).
 constexpr float kExitPad = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
 
-// Per-ray constants of the slab test. For each axis, offsets into Node::bounds of the pair of planes (one per child)
-// the ray meets first and last: lo then hi when moving towards +, hi then lo when moving towards -.
+// Per-ray constants of the slab test. For each axis, the rows of Node::bounds holding the planes the ray meets
+// first and last: lo then hi when moving towards +, hi then lo when moving towards -.
 struct SlabRay {
-  float origin[3];
-  float inv_dir[3];  // 1/0 = +-inf: see enter_children
+  __m128 origin[3];
+  __m128 inv_dir[3];  // 1/0 = +-inf: see enter_children
   int near[3], far[3];
 };
 
 SlabRay make_slab_ray(const Ray& ray) {
   SlabRay r;
   for (int a = 0; a < 3; ++a) {
-    r.origin[a] = ray.origin[a];
-    r.inv_dir[a] = 1.0f / ray.dir[a];
+    r.origin[a] = _mm_set1_ps(ray.origin[a]);
+    r.inv_dir[a] = _mm_set1_ps(1.0f / ray.dir[a]);
     const int negative = std::signbit(ray.dir[a]) ? 1 : 0;
-    r.near[a] = 4 * a + 2 * negative;
-    r.far[a] = 4 * a + 2 * (1 - negative);
+    r.near[a] = 2 * a + negative;
+    r.far[a] = 2 * a + 1 - negative;
   }
   return r;
 }
 
-// Which of a node's two child boxes the ray enters within [t_min, t_max] (bit k for child k), and where.
+// Which of a node's four child boxes the ray enters within [t_min, t_max] (bit k for child k), and where.
 // A zero direction component makes its slab distances +-inf (outside or inside that slab), or NaN (0 * inf) when
-// the origin lies on a plane of the slab; the max/min below ignore NaN, treating the ray as inside: conservative.
-inline unsigned enter_children(const float* bounds, const SlabRay& r, float t_min, float t_max, float t_enter[2]) {
-#if defined(__SSE2__) && !defined(TRIPSITTER_BVH_NO_SIMD)
-  // Both children in lanes 0 and 1. _mm_max_ps(x, acc) and _mm_min_ps(x, acc) return acc when x is NaN.
+// the origin lies on a plane of the slab; max/min below ignore NaN, treating the ray as inside: conservative.
+// Empty slots (lo = +inf, hi = -inf) are never entered.
+inline unsigned enter_children(const float (*bounds)[4], const SlabRay& r, float t_min, float t_max, float t_enter[4]) {
+  // _mm_max_ps(x, acc) and _mm_min_ps(x, acc) return acc when x is NaN.
   __m128 t0 = _mm_set1_ps(t_min), t1 = _mm_set1_ps(t_max);
   const __m128 pad = _mm_set1_ps(kExitPad);
   for (int a = 0; a < 3; ++a) {
-    const __m128 o = _mm_set1_ps(r.origin[a]), inv = _mm_set1_ps(r.inv_dir[a]);
-    const __m128 near = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(bounds + r.near[a])));
-    const __m128 far = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(bounds + r.far[a])));
-    t0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(near, o), inv), t0);
-    t1 = _mm_min_ps(_mm_mul_ps(_mm_mul_ps(_mm_sub_ps(far, o), inv), pad), t1);
+    const __m128 near = _mm_load_ps(bounds[r.near[a]]);
+    const __m128 far = _mm_load_ps(bounds[r.far[a]]);
+    t0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(near, r.origin[a]), r.inv_dir[a]), t0);
+    t1 = _mm_min_ps(_mm_mul_ps(_mm_mul_ps(_mm_sub_ps(far, r.origin[a]), r.inv_dir[a]), pad), t1);
   }
-  _mm_storel_pi(reinterpret_cast<__m64*>(t_enter), t0);
-  return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t0, t1))) & 3u;
-#else
-  unsigned mask = 0;
-  for (int k = 0; k < 2; ++k) {
-    float t0 = t_min, t1 = t_max;
-    for (int a = 0; a < 3; ++a) {
-      const float near = (bounds[r.near[a] + k] - r.origin[a]) * r.inv_dir[a];
-      const float far = (bounds[r.far[a] + k] - r.origin[a]) * r.inv_dir[a] * kExitPad;
-      t0 = near > t0 ? near : t0;  // NaN ignored
-      t1 = far < t1 ? far : t1;
-    }
-    t_enter[k] = t0;
-    mask |= (t0 <= t1 ? 1u : 0u) << k;
+  _mm_storeu_ps(t_enter, t0);
+  return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+}
+
+// sphere_root on up to four spheres at once (lanes past `count` repeat the last sphere): bit k of the result is set
+// when sphere k offers a root beyond t_min, which is then t[k]. The same operations as sphere_root, lane by lane.
+inline unsigned sphere_roots(const KernelRay& ray, const Bvh::Sphere* spheres, std::uint32_t count, float t_min,
+                             float t[4]) {
+  __m128 cx, cy, cz, radius;
+  {
+    const Bvh::Sphere* s[4];
+    for (std::uint32_t k = 0; k < 4; ++k) s[k] = &spheres[k < count ? k : count - 1];
+    __m128 r0 = _mm_loadu_ps(&s[0]->center.x), r1 = _mm_loadu_ps(&s[1]->center.x);
+    __m128 r2 = _mm_loadu_ps(&s[2]->center.x), r3 = _mm_loadu_ps(&s[3]->center.x);
+    _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+    cx = r0, cy = r1, cz = r2, radius = r3;
   }
-  return mask;
-#endif
+  const __m128 ocx = _mm_sub_ps(_mm_set1_ps(ray.origin.x), cx);
+  const __m128 ocy = _mm_sub_ps(_mm_set1_ps(ray.origin.y), cy);
+  const __m128 ocz = _mm_sub_ps(_mm_set1_ps(ray.origin.z), cz);
+  const __m128 dx = _mm_set1_ps(ray.dir.x), dy = _mm_set1_ps(ray.dir.y), dz = _mm_set1_ps(ray.dir.z);
+  const __m128 b = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ocx, dx), _mm_mul_ps(ocy, dy)), _mm_mul_ps(ocz, dz));
+  const __m128 scale = _mm_mul_ps(b, _mm_set1_ps(ray.inv_dir_len2));
+  const __m128 fx = _mm_sub_ps(ocx, _mm_mul_ps(dx, scale));
+  const __m128 fy = _mm_sub_ps(ocy, _mm_mul_ps(dy, scale));
+  const __m128 fz = _mm_sub_ps(ocz, _mm_mul_ps(dz, scale));
+  const __m128 r2 = _mm_mul_ps(radius, radius);
+  const __m128 ff = _mm_add_ps(_mm_add_ps(_mm_mul_ps(fx, fx), _mm_mul_ps(fy, fy)), _mm_mul_ps(fz, fz));
+  const __m128 disc = _mm_mul_ps(_mm_set1_ps(ray.dir_len2), _mm_sub_ps(r2, ff));
+  const __m128 zero = _mm_setzero_ps();
+  const __m128 real = _mm_cmpge_ps(disc, zero);  // false for NaN, as !(disc >= 0) in sphere_root
+  if (_mm_movemask_ps(real) == 0) return 0;
+  const __m128 sign = _mm_set1_ps(-0.0f);
+  const __m128 root = _mm_or_ps(_mm_andnot_ps(sign, _mm_sqrt_ps(disc)), _mm_and_ps(b, sign));  // copysign
+  const __m128 q = _mm_xor_ps(_mm_add_ps(b, root), sign);
+  const __m128 c = _mm_sub_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(ocx, ocx), _mm_mul_ps(ocy, ocy)), _mm_mul_ps(ocz, ocz)), r2);
+  const __m128 q_near = _mm_mul_ps(q, _mm_set1_ps(ray.inv_dir_len2));
+  const __m128 q_nonzero = _mm_cmpneq_ps(q, zero);
+  const __m128 q_far = _mm_and_ps(q_nonzero, _mm_div_ps(c, q));
+  const __m128 swap = _mm_cmplt_ps(q_far, q_near);
+  const __m128 t_near = _mm_or_ps(_mm_and_ps(swap, q_far), _mm_andnot_ps(swap, q_near));
+  const __m128 t_far = _mm_or_ps(_mm_and_ps(swap, q_near), _mm_andnot_ps(swap, q_far));
+  const __m128 vt_min = _mm_set1_ps(t_min);
+  const __m128 near_ok = _mm_cmpgt_ps(t_near, vt_min);
+  const __m128 chosen = _mm_or_ps(_mm_and_ps(near_ok, t_near), _mm_andnot_ps(near_ok, t_far));
+  _mm_storeu_ps(t, chosen);
+  const unsigned mask = static_cast<unsigned>(_mm_movemask_ps(_mm_and_ps(real, _mm_cmpgt_ps(chosen, vt_min))));
+  return mask & ((1u << count) - 1u);
 }
 
 }  // namespace
@@ -381,7 +468,9 @@ Bvh Bvh::build(std::span<const Vec3f> centers, std::span<const float> radii) {
   for (std::size_t i = 0; i < n; ++i) {
     refs[i] = {centers[i], padded_radius(centers[i], radii[i]), static_cast<std::uint32_t>(i)};
   }
-  Builder<Node>(refs, bvh.nodes_).run();
+  std::vector<BinaryNode> binary;
+  Builder(refs, binary).run();
+  collapse(binary, bvh.nodes_);
   bvh.nodes_.shrink_to_fit();
   bvh.spheres_.resize(n);
   bvh.index_.resize(n);
@@ -402,77 +491,65 @@ bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) co
   float best_t = t_max;
   std::uint32_t best = 0;  // original index of the best sphere
   const auto visit_leaf = [&](std::uint32_t first, std::uint32_t count) {
-    for (std::uint32_t i = first; i < first + count; ++i) {
-      float t;
-      if (!sphere_root(kray, spheres_[i].center, spheres_[i].radius, t_min, t)) continue;
+    float t[4];
+    unsigned hits = sphere_roots(kray, &spheres_[first], count, t_min, t);
+    for (; hits != 0; hits &= hits - 1) {
+      const int k = __builtin_ctz(hits);
+      const std::uint32_t original = index_[first + static_cast<std::uint32_t>(k)];
       // Equal t goes to the lower original index, as in brute force.
-      if (t < best_t || (found && t == best_t && index_[i] < best)) {
-        best_t = t;
-        best = index_[i];
+      if (t[k] < best_t || (found && t[k] == best_t && original < best)) {
+        best_t = t[k];
+        best = original;
         found = true;
       }
     }
   };
 
-  // Children waiting to be visited: a node or leaf reference and the t at which the ray enters its box.
+  // Nodes waiting to be visited and the t at which the ray enters their boxes; leaves are tested when met.
   struct Pending {
-    std::uint32_t first, count;
+    std::uint32_t node;
     float t_enter;
   };
-  Pending stack[kStackSize];
+  Pending stack[3 * kStackSize + 1];
   int size = 0;
   std::uint32_t node = 0;
   for (;;) {
     const Node& n = nodes_[node];
-#if defined(__GNUC__)
-    // Start fetching the inner children while the boxes are tested: +25% on a million spheres, where most node
-    // visits miss the cache.
-    for (int k = 0; k < 2; ++k) {
-      if (n.count[k] == Node::kInner) __builtin_prefetch(&nodes_[n.first[k]]);
-    }
-#endif
-    float t_enter[2];
+    alignas(16) float t_enter[4];
     // Inclusive of best_t so that exact ties are still seen.
-    const unsigned enters = enter_children(n.bounds, sray, t_min, best_t, t_enter);
-    // Nearer child first; the other waits on the stack unless both are leaves, which are simply tested in order.
-    bool descended = false;
-    if (enters != 0) {
-      const int c0 = enters == 3 ? (t_enter[1] < t_enter[0] ? 1 : 0) : (enters == 2 ? 1 : 0);
-      const int c1 = 1 - c0;
-      if (n.count[c0] != Node::kInner) {
-        visit_leaf(n.first[c0], n.count[c0]);
-      } else {
-        node = n.first[c0];
-        descended = true;
+    unsigned enters = enter_children(n.bounds, sray, t_min, best_t, t_enter);
+    int order[4];  // the children that are nodes, farthest first
+    int nodes = 0;
+    for (; enters != 0; enters &= enters - 1) {
+      const int k = __builtin_ctz(enters);
+      if (n.count[k] != Node::kInner) {
+        if (t_enter[k] <= best_t) visit_leaf(n.first[k], n.count[k]);
+        continue;
       }
-      if (enters == 3 && t_enter[c1] <= best_t) {
-        if (descended) {
-          assert(size < kStackSize);
-          stack[size++] = {n.first[c1], n.count[c1], t_enter[c1]};
-        } else if (n.count[c1] != Node::kInner) {
-          visit_leaf(n.first[c1], n.count[c1]);
-        } else {
-          node = n.first[c1];
-          descended = true;
-        }
-      }
+#if defined(__GNUC__)
+      // Start fetching the node while the others are sorted: most node visits miss the cache on big scenes.
+      __builtin_prefetch(&nodes_[n.first[k]]);
+#endif
+      int j = nodes++;
+      for (; j > 0 && t_enter[order[j - 1]] < t_enter[k]; --j) order[j] = order[j - 1];
+      order[j] = k;
     }
-    // Otherwise resume with the nearest pending child still in range; leaves are tested on the way.
-    while (!descended) {
-      if (size == 0) {
-        if (found) hit = {best_t, best};
-        return found;
-      }
-      const Pending p = stack[--size];
-      if (p.t_enter > best_t) continue;
-      if (p.count != Node::kInner) {
-        visit_leaf(p.first, p.count);
-      } else {
-        node = p.first;
-        descended = true;
-      }
+    // The nearest node next, the others later; a leaf just tested may have moved best_t closer than them all.
+    for (int j = 0; j + 1 < nodes; ++j) {
+      assert(size < 3 * kStackSize + 1);
+      stack[size++] = {n.first[order[j]], t_enter[order[j]]};
     }
+    if (nodes > 0 && t_enter[order[nodes - 1]] <= best_t) {
+      node = n.first[order[nodes - 1]];
+      continue;
+    }
+    // Otherwise resume with the nearest pending node still in range.
+    while (size > 0 && stack[size - 1].t_enter > best_t) --size;
+    if (size == 0) break;
+    node = stack[--size].node;
   }
+  if (found) hit = {best_t, best};
+  return found;
 }
 
 std::size_t Bvh::sphere_count() const { return spheres_.size(); }

@@ -18,6 +18,12 @@ class ThinLensCamera {
   // The ray through the pixel's centre from the lens centre (no jitter, no defocus).
   Ray centre_ray(int col, int row) const;
 
+  // What centre_ray computes from: its direction is (pixel00 + du * col + dv * row) - origin, in that order.
+  struct Pinhole {
+    Vec3f origin, pixel00, du, dv;
+  };
+  Pinhole pinhole() const { return {origin_, pixel00_, pixel_du_, pixel_dv_}; }
+
  private:
   Vec3f origin_;
   Vec3f pixel00_;          // centre of the top-left pixel on the focus plane

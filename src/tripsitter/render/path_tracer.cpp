@@ -1,5 +1,7 @@
 #include <tripsitter/render/path_tracer.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include <tripsitter/core/parallel.h>
@@ -92,13 +94,59 @@ std::uint8_t srgb_encode(float linear) {
   return static_cast<std::uint8_t>(std::lround(e * 255.0f));
 }
 
-core::ImageRgb8 to_srgb8(const ImageRgbF& image) {
+namespace {
+
+// srgb_encode without pow: it is monotonic, so level k covers [start[k], start[k + 1]); a 4096-bin table gives
+// the level at each bin's start, and one bin never spans more than one level boundary (the curve's steepest
+// slope, 12.92 * 255 levels per unit, is under 4096 bins per unit), so one comparison finishes the job.
+class SrgbTable {
+ public:
+  SrgbTable() {
+    start_[0] = -INFINITY;
+    for (int k = 1; k < 256; ++k) {
+      // The smallest float in [0, 1] that encodes to k or more, by bisection on the bit patterns (ordered like
+      // the values for non-negative floats).
+      std::uint32_t lo = 0, hi = std::bit_cast<std::uint32_t>(1.0f);
+      while (lo < hi) {
+        const std::uint32_t mid = lo + (hi - lo) / 2;
+        if (srgb_encode(std::bit_cast<float>(mid)) >= k) hi = mid;
+        else lo = mid + 1;
+      }
+      start_[k] = std::bit_cast<float>(lo);
+    }
+    start_[256] = INFINITY;
+    int level = 0;
+    for (int bin = 0; bin < kBins; ++bin) {
+      const float x = static_cast<float>(bin) / kBins;
+      while (start_[level + 1] <= x) ++level;
+      bin_level_[bin] = static_cast<std::uint8_t>(level);
+    }
+  }
+  std::uint8_t encode(float linear) const {
+    const float v = std::fmin(std::fmax(linear, 0.0f), 1.0f);  // NaN becomes 0, as in srgb_encode
+    const int bin = std::min(static_cast<int>(v * kBins), kBins - 1);
+    const int level = bin_level_[bin];
+    return static_cast<std::uint8_t>(v >= start_[level + 1] ? level + 1 : level);
+  }
+
+ private:
+  static constexpr int kBins = 4096;
+  float start_[257];
+  std::uint8_t bin_level_[kBins];
+};
+
+}  // namespace
+
+core::ImageRgb8 to_srgb8(const ImageRgbF& image) { return to_srgb8(image, 1.0f); }
+
+core::ImageRgb8 to_srgb8(const ImageRgbF& image, float scale) {
+  static const SrgbTable table;
   core::ImageRgb8 out(image.width, image.height);
   for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-    const Vec3f& p = image.pixels[i];
-    out.pixels[3 * i + 0] = srgb_encode(p.x);
-    out.pixels[3 * i + 1] = srgb_encode(p.y);
-    out.pixels[3 * i + 2] = srgb_encode(p.z);
+    const Vec3f p = image.pixels[i] * scale;
+    out.pixels[3 * i + 0] = table.encode(p.x);
+    out.pixels[3 * i + 1] = table.encode(p.y);
+    out.pixels[3 * i + 2] = table.encode(p.z);
   }
   return out;
 }

@@ -37,6 +37,10 @@ class PathScene {
   // The surface point of a hit, its normal facing the ray.
   SurfacePoint surface(const Ray& ray, const SphereHit& hit) const;
   const PathMaterial& material(std::uint32_t sphere) const { return materials_[sphere]; }
+  const Vec3f& center(std::uint32_t sphere) const { return centers_[sphere]; }
+  float radius(std::uint32_t sphere) const { return radii_[sphere]; }
+  std::span<const Vec3f> centers() const { return centers_; }
+  std::span<const float> radii() const { return radii_; }
 
  private:
   std::vector<Vec3f> centers_;
@@ -81,6 +85,8 @@ void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, cons
 
 // The IEC 61966-2-1 sRGB transfer function of a linear value clamped to [0, 1], to 8 bits.
 std::uint8_t srgb_encode(float linear);
+// Every channel through srgb_encode (by table: the same bytes, without pow), after multiplying by `scale`.
 core::ImageRgb8 to_srgb8(const ImageRgbF& image);
+core::ImageRgb8 to_srgb8(const ImageRgbF& image, float scale);
 
 }  // namespace tripsitter::render

@@ -1,0 +1,210 @@
+// Primary rays in tiles of 8 x 8 pixels. All rays of a tile leave the camera's eye, so a tile is a frustum:
+// the BVH is walked once per tile (boxes outside the frustum, or farther than every ray's hit so far, are
+// skipped), each sphere of a leaf is checked against the tile's side planes and against the plane of each row
+// of pixels, and only rows it can touch are intersected, eight rays at a time.
+//
+// Exactness: a lane computes the same float operations, in the same order, as the scalar kernel in bvh.cpp
+// (sphere_root) on the ray camera.centre_ray gives, and breaks ties towards the lower sphere index, so a pixel
+// gets the sphere and t that testing every sphere gives. The plane and box tests only skip what cannot be hit,
+// with margins far above float rounding.
+#include <tripsitter/render/primary.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+
+#include <tripsitter/core/parallel.h>
+
+namespace tripsitter::render {
+namespace {
+
+#include <tripsitter/render/simd8.h>
+
+constexpr int kTile = 8;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+// Relative margin of the plane tests: the rays of a tile stray from the planes through its corner rays by a few
+// float roundings (~1e-7); 1e-4 of the distance is far beyond that and costs nothing measurable.
+constexpr float kPlaneMargin = 1e-4f;
+
+Vec3f dir_of(const ThinLensCamera::Pinhole& p, int col, int row) {
+  return p.pixel00 + p.du * static_cast<float>(col) + p.dv * static_cast<float>(row) - p.origin;
+}
+
+float l1(const Vec3f& v) { return std::abs(v.x) + std::abs(v.y) + std::abs(v.z); }
+
+// A plane through the eye: points x with dot(normal, x - eye) >= 0 are inside.
+struct Plane {
+  Vec3f normal;
+  float norm;  // |normal|
+  // Inside or within the margin of `point`, grown by `radius`.
+  bool reaches(const Vec3f& offset, float radius) const {
+    return core::dot(normal, offset) >= -radius * norm - kPlaneMargin * norm * l1(offset);
+  }
+};
+
+Plane plane(const Vec3f& a, const Vec3f& b) {
+  const Vec3f n = core::cross(a, b);
+  return {n, core::length(n)};
+}
+
+class Tile {
+ public:
+  Tile(const PathScene& scene, const ThinLensCamera::Pinhole& cam, int col0, int row0, int width, int height)
+      : scene_(scene), eye_(cam.origin), col0_(col0), row0_(row0) {
+    // Pixels beyond the image repeat the last column or row: their lanes do real work but are never written.
+    const auto col_at = [&](int k) { return std::min(col0 + k, width - 1); };
+    const auto row_at = [&](int k) { return std::min(row0 + k, height - 1); };
+    for (int r = 0; r < kTile; ++r) {
+      for (int c = 0; c < kTile; ++c) {
+        const Vec3f d = dir_of(cam, col_at(c), row_at(r));
+        dx_[r][c] = d.x;
+        dy_[r][c] = d.y;
+        dz_[r][c] = d.z;
+        a_[r][c] = core::dot(d, d);
+        inv_a_[r][c] = 1.0f / a_[r][c];
+        len_[r][c] = std::sqrt(a_[r][c]);
+        t_[r][c] = kInf;
+        id_[r][c] = 0.0f;
+      }
+    }
+    // Inward side planes through the tile's outer pixel edges (the camera's du points right, dv down), and the
+    // plane of each row's rays, widened by half a pixel each way; a sphere that no row plane meets within its
+    // radius is missed by every ray of the tile.
+    const Vec3f half_u = cam.du * 0.5f, half_v = cam.dv * 0.5f;
+    const Vec3f tl = dir_of(cam, col_at(0), row_at(0)) - half_u - half_v;
+    const Vec3f tr = dir_of(cam, col_at(kTile - 1), row_at(0)) + half_u - half_v;
+    const Vec3f bl = dir_of(cam, col_at(0), row_at(kTile - 1)) - half_u + half_v;
+    const Vec3f br = dir_of(cam, col_at(kTile - 1), row_at(kTile - 1)) + half_u + half_v;
+    sides_[0] = plane(bl, tl);  // left
+    sides_[1] = plane(tr, br);  // right
+    sides_[2] = plane(tl, tr);  // top
+    sides_[3] = plane(br, bl);  // bottom
+    for (int r = 0; r < kTile; ++r)
+      rows_[r] = plane(dir_of(cam, col_at(0), row_at(r)) - half_u, dir_of(cam, col_at(kTile - 1), row_at(r)) + half_u);
+  }
+
+  // Distance from the eye to the box, or +inf when the box lies outside the tile's frustum.
+  float reach(const float lo[3], const float hi[3]) const {
+    const Vec3f o = eye_;
+    for (const Plane& p : sides_) {
+      // The box corner farthest along the inward normal.
+      const Vec3f corner{p.normal.x >= 0 ? hi[0] : lo[0], p.normal.y >= 0 ? hi[1] : lo[1], p.normal.z >= 0 ? hi[2] : lo[2]};
+      if (!p.reaches(corner - o, 0.0f)) return kInf;
+    }
+    const Vec3f gap{std::max({lo[0] - o.x, 0.0f, o.x - hi[0]}), std::max({lo[1] - o.y, 0.0f, o.y - hi[1]}),
+                    std::max({lo[2] - o.z, 0.0f, o.z - hi[2]})};
+    return core::length(gap) * (1.0f - kPlaneMargin);
+  }
+
+  // Boxes farther than this hold nothing nearer than what every ray has hit.
+  float limit() const { return limit_; }
+
+  void leaf(const Bvh::Sphere* spheres, const std::uint32_t* original, std::uint32_t count) {
+    bool updated = false;
+    for (std::uint32_t i = 0; i < count; ++i) updated |= sphere(spheres[i], original[i]);
+    if (updated) update_limit();
+  }
+
+  // Writes the tile's pixels that lie in the image.
+  void shade(const PathScene& scene, const ThinLensCamera& camera, core::ImageRgb8& image) const {
+    for (int r = 0; r < kTile && row0_ + r < image.height; ++r) {
+      for (int c = 0; c < kTile && col0_ + c < image.width; ++c) {
+        if (t_[r][c] == kInf) continue;
+        const int col = col0_ + c, row = row0_ + r;
+        shade_primary(scene, camera.centre_ray(col, row), {t_[r][c], std::bit_cast<std::uint32_t>(id_[r][c])},
+                      &image.pixels[3 * (static_cast<std::size_t>(row) * static_cast<std::size_t>(image.width) +
+                                         static_cast<std::size_t>(col))]);
+      }
+    }
+  }
+
+ private:
+  // Intersects one sphere with the rows of rays it can touch; true when some ray's closest hit changed.
+  bool sphere(const Bvh::Sphere& s, std::uint32_t index) {
+    const Vec3f offset = s.center - eye_;
+    for (const Plane& p : sides_) {
+      if (!p.reaches(offset, s.radius)) return false;
+    }
+    // The scalar kernel's per-sphere terms: oc = origin - center, c = |oc|^2 - r^2.
+    const Vec3f oc = eye_ - s.center;
+    const float r2 = s.radius * s.radius;
+    const F8 ocx = F8::set1(oc.x), ocy = F8::set1(oc.y), ocz = F8::set1(oc.z), vr2 = F8::set1(r2);
+    const F8 c = F8::set1(core::dot(oc, oc) - r2);
+    const F8 zero = F8::set1(0.0f), sign = F8::set1(-0.0f);
+    const F8 id = F8::set1(std::bit_cast<float>(index));
+    bool updated = false;
+    for (int r = 0; r < kTile; ++r) {
+      const Plane& row = rows_[r];
+      if (std::abs(core::dot(row.normal, offset)) > s.radius * row.norm + kPlaneMargin * row.norm * l1(offset)) continue;
+      const F8 dx = F8::load(dx_[r]), dy = F8::load(dy_[r]), dz = F8::load(dz_[r]);
+      const F8 b = ocx * dx + ocy * dy + ocz * dz;
+      const F8 scale = b * F8::load(inv_a_[r]);
+      const F8 fx = ocx - dx * scale, fy = ocy - dy * scale, fz = ocz - dz * scale;
+      const F8 disc = F8::load(a_[r]) * (vr2 - (fx * fx + fy * fy + fz * fz));
+      const F8 real = disc >= zero;
+      if (real.bits() == 0) continue;
+      const F8 q = (b + copysign(sqrt(disc), b)) ^ sign;
+      const F8 q_near = q * F8::load(inv_a_[r]);
+      const F8 q_far = select(q != zero, c / q, zero);
+      const F8 swap = q_far < q_near;
+      const F8 t_near = select(swap, q_far, q_near), t_far = select(swap, q_near, q_far);
+      const F8 t = select(t_near > zero, t_near, t_far);
+      const F8 best = F8::load(t_[r]);
+      const F8 valid = real & (t > zero);
+      const F8 closer = valid & (t < best);
+      if (closer.bits() != 0) {
+        select(closer, t, best).store(t_[r]);
+        select(closer, id, F8::load(id_[r])).store(id_[r]);
+        updated = true;
+      }
+      // Equal t: the lower sphere index wins, as when every sphere is tested in index order.
+      if (const int ties = (valid & (t == best)).bits(); ties != 0) {
+        for (int k = 0; k < kTile; ++k) {
+          if ((ties >> k & 1) && index < std::bit_cast<std::uint32_t>(id_[r][k])) id_[r][k] = std::bit_cast<float>(index);
+        }
+      }
+    }
+    return updated;
+  }
+
+  void update_limit() {
+    float farthest = 0.0f;
+    for (int r = 0; r < kTile; ++r) {
+      for (int c = 0; c < kTile; ++c) farthest = std::max(farthest, t_[r][c] * len_[r][c]);
+    }
+    // Distances of the boxes are measured from the eye in world units; a hit at t lies t |d| away.
+    limit_ = farthest * (1.0f + kPlaneMargin);
+  }
+
+  const PathScene& scene_;
+  Vec3f eye_;
+  int col0_, row0_;
+  alignas(32) float dx_[kTile][kTile], dy_[kTile][kTile], dz_[kTile][kTile];
+  alignas(32) float a_[kTile][kTile], inv_a_[kTile][kTile], len_[kTile][kTile];
+  alignas(32) float t_[kTile][kTile];
+  alignas(32) float id_[kTile][kTile];  // the sphere hit at t_, its original index's bits
+  Plane sides_[4];
+  Plane rows_[kTile];
+  float limit_ = kInf;
+};
+
+}  // namespace
+
+core::ImageRgb8 render_primary(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings) {
+  core::ImageRgb8 image(settings.width, settings.height);
+  const ThinLensCamera::Pinhole pinhole = camera.pinhole();
+  const int tiles_x = (settings.width + kTile - 1) / kTile;
+  core::parallel_for(0, (settings.height + kTile - 1) / kTile, settings.threads, [&](int tile_row) {
+    for (int tx = 0; tx < tiles_x; ++tx) {
+      Tile tile(scene, pinhole, tx * kTile, tile_row * kTile, settings.width, settings.height);
+      scene.bvh().traverse([&](const float lo[3], const float hi[3]) { return tile.reach(lo, hi); },
+                           [&] { return tile.limit(); },
+                           [&](const Bvh::Sphere* s, const std::uint32_t* original, std::uint32_t n) { tile.leaf(s, original, n); });
+      tile.shade(scene, camera, image);
+    }
+  });
+  return image;
+}
+
+}  // namespace tripsitter::render

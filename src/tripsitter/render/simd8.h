@@ -1,0 +1,75 @@
+// Eight floats at a time: one AVX register where the translation unit is compiled for AVX, two SSE registers
+// otherwise. Every operation is the IEEE operation of each lane (no fused multiply-add), so a lane computes
+// bit for bit what the same scalar expression computes.
+//
+// Include it inside a namespace named after the instruction set (see primary.cpp): translation units built for
+// different instruction sets then never share an inline function the linker could mix up.
+#pragma once
+
+#include <cstdint>
+
+#if defined(__AVX__)
+#include <immintrin.h>
+#else
+#include <emmintrin.h>
+#endif
+
+struct F8 {
+#if defined(__AVX__)
+  __m256 v;
+  static F8 load(const float* p) { return {_mm256_load_ps(p)}; }  // REQUIRES p 32-byte aligned
+  static F8 set1(float x) { return {_mm256_set1_ps(x)}; }
+  void store(float* p) const { _mm256_store_ps(p, v); }
+  friend F8 operator+(F8 a, F8 b) { return {_mm256_add_ps(a.v, b.v)}; }
+  friend F8 operator-(F8 a, F8 b) { return {_mm256_sub_ps(a.v, b.v)}; }
+  friend F8 operator*(F8 a, F8 b) { return {_mm256_mul_ps(a.v, b.v)}; }
+  friend F8 operator/(F8 a, F8 b) { return {_mm256_div_ps(a.v, b.v)}; }
+  friend F8 operator&(F8 a, F8 b) { return {_mm256_and_ps(a.v, b.v)}; }
+  friend F8 operator|(F8 a, F8 b) { return {_mm256_or_ps(a.v, b.v)}; }
+  friend F8 operator^(F8 a, F8 b) { return {_mm256_xor_ps(a.v, b.v)}; }
+  friend F8 andnot(F8 mask, F8 a) { return {_mm256_andnot_ps(mask.v, a.v)}; }  // a where mask is clear
+  friend F8 sqrt(F8 a) { return {_mm256_sqrt_ps(a.v)}; }
+  // Masks: all ones in a lane where the comparison holds (false where either side is NaN).
+  friend F8 operator>=(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GE_OQ)}; }
+  friend F8 operator>(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
+  friend F8 operator<(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
+  friend F8 operator==(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)}; }
+  friend F8 operator!=(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_NEQ_UQ)}; }
+  // mask ? a : b, lane by lane.
+  friend F8 select(F8 mask, F8 a, F8 b) { return {_mm256_blendv_ps(b.v, a.v, mask.v)}; }
+  // One bit per lane of a mask.
+  int bits() const { return _mm256_movemask_ps(v); }
+#else
+  __m128 lo, hi;
+  static F8 load(const float* p) { return {_mm_load_ps(p), _mm_load_ps(p + 4)}; }  // REQUIRES p 16-byte aligned
+  static F8 set1(float x) { return {_mm_set1_ps(x), _mm_set1_ps(x)}; }
+  void store(float* p) const {
+    _mm_store_ps(p, lo);
+    _mm_store_ps(p + 4, hi);
+  }
+  friend F8 operator+(F8 a, F8 b) { return {_mm_add_ps(a.lo, b.lo), _mm_add_ps(a.hi, b.hi)}; }
+  friend F8 operator-(F8 a, F8 b) { return {_mm_sub_ps(a.lo, b.lo), _mm_sub_ps(a.hi, b.hi)}; }
+  friend F8 operator*(F8 a, F8 b) { return {_mm_mul_ps(a.lo, b.lo), _mm_mul_ps(a.hi, b.hi)}; }
+  friend F8 operator/(F8 a, F8 b) { return {_mm_div_ps(a.lo, b.lo), _mm_div_ps(a.hi, b.hi)}; }
+  friend F8 operator&(F8 a, F8 b) { return {_mm_and_ps(a.lo, b.lo), _mm_and_ps(a.hi, b.hi)}; }
+  friend F8 operator|(F8 a, F8 b) { return {_mm_or_ps(a.lo, b.lo), _mm_or_ps(a.hi, b.hi)}; }
+  friend F8 operator^(F8 a, F8 b) { return {_mm_xor_ps(a.lo, b.lo), _mm_xor_ps(a.hi, b.hi)}; }
+  friend F8 andnot(F8 mask, F8 a) { return {_mm_andnot_ps(mask.lo, a.lo), _mm_andnot_ps(mask.hi, a.hi)}; }
+  friend F8 sqrt(F8 a) { return {_mm_sqrt_ps(a.lo), _mm_sqrt_ps(a.hi)}; }
+  friend F8 operator>=(F8 a, F8 b) { return {_mm_cmpge_ps(a.lo, b.lo), _mm_cmpge_ps(a.hi, b.hi)}; }
+  friend F8 operator>(F8 a, F8 b) { return {_mm_cmpgt_ps(a.lo, b.lo), _mm_cmpgt_ps(a.hi, b.hi)}; }
+  friend F8 operator<(F8 a, F8 b) { return {_mm_cmplt_ps(a.lo, b.lo), _mm_cmplt_ps(a.hi, b.hi)}; }
+  friend F8 operator==(F8 a, F8 b) { return {_mm_cmpeq_ps(a.lo, b.lo), _mm_cmpeq_ps(a.hi, b.hi)}; }
+  friend F8 operator!=(F8 a, F8 b) { return {_mm_cmpneq_ps(a.lo, b.lo), _mm_cmpneq_ps(a.hi, b.hi)}; }
+  friend F8 select(F8 mask, F8 a, F8 b) {
+    return {_mm_or_ps(_mm_and_ps(mask.lo, a.lo), _mm_andnot_ps(mask.lo, b.lo)),
+            _mm_or_ps(_mm_and_ps(mask.hi, a.hi), _mm_andnot_ps(mask.hi, b.hi))};
+  }
+  int bits() const { return _mm_movemask_ps(lo) | (_mm_movemask_ps(hi) << 4); }
+#endif
+  // The magnitude of a with the sign of b, lane by lane (std::copysign).
+  friend F8 copysign(F8 a, F8 b) {
+    const F8 sign = set1(-0.0f);
+    return andnot(sign, a) | (b & sign);
+  }
+};
