@@ -1,6 +1,7 @@
 // Google Benchmark micro-benchmarks of the kernels. Run: build/release/bench/micro_bench
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <random>
 
 #include <tripsitter/board/board.h>
@@ -8,6 +9,8 @@
 #include <tripsitter/device/sqrt_unit.h>
 #include <tripsitter/link/wire_v2.h>
 #include <tripsitter/render/normal.h>
+#include <tripsitter/render/path_tracer.h>
+#include <tripsitter/render/primary.h>
 #include <tripsitter/scene/builtin.h>
 
 namespace {
@@ -62,5 +65,49 @@ void BM_DecodeV2(benchmark::State& state) {
 BENCHMARK(BM_DecodeV2)->Arg(64)->Arg(4096);
 
 }  // namespace
+
+// One closest-hit query of the path tracer's kind: random origins in the field scene's grid, random directions.
+void BM_BvhIntersectField(benchmark::State& state) {
+  const scene::Scene field = *scene::builtin("field");
+  const render::PathScene scene(field.spheres);
+  render::Rng rng(7);
+  std::vector<render::Ray> rays(4096);
+  for (auto& r : rays) {
+    r.origin = {22 * rng.uniform() - 11, 0.5f * rng.uniform(), 22 * rng.uniform() - 11};
+    r.dir = rng.unit_vector();
+  }
+  std::size_t i = 0, hits = 0;
+  for (auto _ : state) {
+    render::SphereHit hit;
+    hits += scene.intersect(rays[i++ & 4095], render::kRayEpsilon, INFINITY, hit) ? 1 : 0;
+  }
+  benchmark::DoNotOptimize(hits);
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_BvhIntersectField);
+
+// A whole primary-ray frame, 640x480, one thread, over random-N.
+void BM_PrimaryFrame(benchmark::State& state) {
+  const scene::Scene sc = scene::random_spheres(static_cast<int>(state.range(0)), 1);
+  const render::PathScene scene(sc.spheres);
+  const render::ThinLensCamera camera(sc.camera, 640, 480);
+  for (auto _ : state) benchmark::DoNotOptimize(render::render_primary(scene, camera, {.width = 640, .height = 480, .threads = 1}));
+  state.SetItemsProcessed(state.iterations() * 640 * 480);
+}
+BENCHMARK(BM_PrimaryFrame)->Arg(1)->Arg(488)->Arg(10000)->Unit(benchmark::kMillisecond);
+
+// One path-traced sample per pixel of field at 160x90 (a slice of path_msamples_field), one thread.
+void BM_PathField(benchmark::State& state) {
+  const scene::Scene field = *scene::builtin("field");
+  const render::PathScene scene(field.spheres);
+  const render::ThinLensCamera camera(field.camera, 160, 90);
+  std::uint64_t seed = 1;
+  for (auto _ : state) {
+    const render::PathSettings s{.width = 160, .height = 90, .spp = 1, .max_depth = 50, .seed = seed++, .threads = 1, .sky = {}};
+    benchmark::DoNotOptimize(render::render_path(scene, camera, s));
+  }
+  state.SetItemsProcessed(state.iterations() * 160 * 90);
+}
+BENCHMARK(BM_PathField)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();
