@@ -297,12 +297,48 @@ class Builder {
 
 // Collapses the binary tree into 4-wide nodes: a node takes its binary node's two children and, while it has
 // room, replaces the inner child of largest surface area by that child's two children.
+struct Slot {
+  Box box;
+  std::uint32_t first, count;  // as in BinaryNode
+};
+
+int expand(const std::vector<BinaryNode>& binary, std::uint32_t node, Slot slots[4]) {
+  int used = 0;
+  const BinaryNode& b = binary[node];
+  for (int k = 0; k < 2; ++k) slots[used++] = {b.box[k], b.first[k], b.count[k]};
+  while (used < 4) {
+    int widest = -1;
+    for (int k = 0; k < used; ++k) {
+      if (slots[k].count == BinaryNode::kInner && (widest < 0 || slots[k].box.half_area() > slots[widest].box.half_area()))
+        widest = k;
+    }
+    if (widest < 0) break;
+    const BinaryNode& child = binary[slots[widest].first];
+    slots[widest] = {child.box[0], child.first[0], child.count[0]};
+    slots[used++] = {child.box[1], child.first[1], child.count[1]};
+  }
+  return used;
+}
+
 template <class Node>
 void collapse(const std::vector<BinaryNode>& binary, std::vector<Node>& nodes) {
-  struct Slot {
-    Box box;
-    std::uint32_t first, count;
-  };
+  // First count the nodes, so that the array is allocated once at its final size (a million spheres: the binary
+  // tree and the 4-wide one are both alive here, at the peak of the build's memory).
+  std::size_t count = 1;
+  std::vector<std::uint32_t> pending{0};
+  while (!pending.empty()) {
+    const std::uint32_t b = pending.back();
+    pending.pop_back();
+    Slot slots[4];
+    const int used = expand(binary, b, slots);
+    for (int k = 0; k < used; ++k) {
+      if (slots[k].count == BinaryNode::kInner) {
+        ++count;
+        pending.push_back(slots[k].first);
+      }
+    }
+  }
+  nodes.reserve(count);
   struct Task {
     std::uint32_t binary, node;
   };
@@ -312,20 +348,7 @@ void collapse(const std::vector<BinaryNode>& binary, std::vector<Node>& nodes) {
     const Task task = tasks.back();
     tasks.pop_back();
     Slot slots[4];
-    int used = 0;
-    const BinaryNode& b = binary[task.binary];
-    for (int k = 0; k < 2; ++k) slots[used++] = {b.box[k], b.first[k], b.count[k]};
-    while (used < 4) {
-      int widest = -1;
-      for (int k = 0; k < used; ++k) {
-        if (slots[k].count == BinaryNode::kInner && (widest < 0 || slots[k].box.half_area() > slots[widest].box.half_area()))
-          widest = k;
-      }
-      if (widest < 0) break;
-      const BinaryNode& child = binary[slots[widest].first];
-      slots[widest] = {child.box[0], child.first[0], child.count[0]};
-      slots[used++] = {child.box[1], child.first[1], child.count[1]};
-    }
+    const int used = expand(binary, task.binary, slots);
     for (int k = 0; k < 4; ++k) {
       const Slot slot = k < used ? slots[k] : Slot{Box{}, 0, 0};
       std::uint32_t first = slot.first;
@@ -334,7 +357,7 @@ void collapse(const std::vector<BinaryNode>& binary, std::vector<Node>& nodes) {
         nodes.emplace_back();
         tasks.push_back({slot.first, first});
       }
-      Node& n = nodes[task.node];  // after emplace_back: the vector may have moved
+      Node& n = nodes[task.node];
       for (int a = 0; a < 3; ++a) {
         n.bounds[2 * a][k] = slot.count == 0 ? kInf : slot.box.lo[a];
         n.bounds[2 * a + 1][k] = slot.count == 0 ? -kInf : slot.box.hi[a];
@@ -343,6 +366,7 @@ void collapse(const std::vector<BinaryNode>& binary, std::vector<Node>& nodes) {
       n.count[k] = slot.count == BinaryNode::kInner ? Node::kInner : slot.count;
     }
   }
+  assert(nodes.size() == count);
 }
 
 // Widens slab exits by the worst rounding of (plane - origin) * inv_dir, so culling never drops a box the ray
@@ -470,15 +494,13 @@ Bvh Bvh::build(std::span<const Vec3f> centers, std::span<const float> radii) {
   }
   std::vector<BinaryNode> binary;
   Builder(refs, binary).run();
-  collapse(binary, bvh.nodes_);
-  bvh.nodes_.shrink_to_fit();
-  bvh.spheres_.resize(n);
+  // Each temporary array is freed as soon as it has served: a million spheres must build within 200 MB.
   bvh.index_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t original = refs[i].index;
-    bvh.spheres_[i] = {centers[original], radii[original]};
-    bvh.index_[i] = original;
-  }
+  for (std::size_t i = 0; i < n; ++i) bvh.index_[i] = refs[i].index;
+  std::vector<PrimRef>().swap(refs);
+  bvh.spheres_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) bvh.spheres_[i] = {centers[bvh.index_[i]], radii[bvh.index_[i]]};
+  collapse(binary, bvh.nodes_);
   return bvh;
 }
 
