@@ -15,8 +15,10 @@ fi
 export ASAN_OPTIONS=detect_leaks=0   # a sanitizer build of the command is fine here
 
 out=fuzz/corpus
-rm -rf "$out"
 mkdir -p "$out"/{wire_v1,wire_v2,receiver,scene_json,key_script}
+# Inputs found by fuzzing and merged in (fuzz/README.md) are named by their SHA-1 and stay; the named seeds
+# are made again.
+find "$out" -type f ! -regex '.*/[0-9a-f]\{40\}' -delete
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
