@@ -411,31 +411,43 @@ inline unsigned enter_children(const float (*bounds)[4], const SlabRay& r, float
   return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
 }
 
-// sphere_root on up to four spheres at once (lanes past `count` repeat the last sphere): bit k of the result is set
-// when sphere k offers a root beyond t_min, which is then t[k]. The same operations as sphere_root, lane by lane.
-inline unsigned sphere_roots(const KernelRay& ray, const Bvh::Sphere* spheres, std::uint32_t count, float t_min,
-                             float t[4]) {
+// Spheres after the last one, so that four can be loaded from any leaf's first sphere.
+constexpr std::size_t kLeafPadding = 3;
+
+// The kernel ray's terms broadcast to four lanes, once per ray rather than once per leaf.
+struct KernelRay4 {
+  __m128 ox, oy, oz, dx, dy, dz, dir_len2, inv_dir_len2, t_min;
+};
+
+KernelRay4 broadcast(const KernelRay& r, float t_min) {
+  return {_mm_set1_ps(r.origin.x), _mm_set1_ps(r.origin.y), _mm_set1_ps(r.origin.z),
+          _mm_set1_ps(r.dir.x),    _mm_set1_ps(r.dir.y),    _mm_set1_ps(r.dir.z),
+          _mm_set1_ps(r.dir_len2), _mm_set1_ps(r.inv_dir_len2), _mm_set1_ps(t_min)};
+}
+
+// sphere_root on up to four spheres at once (lanes past `count` hold the spheres that follow): bit k of the result is
+// set when sphere k offers a root beyond t_min, which is then t[k]. The same operations as sphere_root, lane by lane.
+inline unsigned sphere_roots(const KernelRay4& ray, const Bvh::Sphere* spheres, std::uint32_t count, float t[4]) {
   __m128 cx, cy, cz, radius;
   {
-    const Bvh::Sphere* s[4];
-    for (std::uint32_t k = 0; k < 4; ++k) s[k] = &spheres[k < count ? k : count - 1];
-    __m128 r0 = _mm_loadu_ps(&s[0]->center.x), r1 = _mm_loadu_ps(&s[1]->center.x);
-    __m128 r2 = _mm_loadu_ps(&s[2]->center.x), r3 = _mm_loadu_ps(&s[3]->center.x);
+    static_assert(sizeof(Bvh::Sphere) == 4 * sizeof(float));
+    __m128 r0 = _mm_loadu_ps(&spheres[0].center.x), r1 = _mm_loadu_ps(&spheres[1].center.x);
+    __m128 r2 = _mm_loadu_ps(&spheres[2].center.x), r3 = _mm_loadu_ps(&spheres[3].center.x);
     _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
     cx = r0, cy = r1, cz = r2, radius = r3;
   }
-  const __m128 ocx = _mm_sub_ps(_mm_set1_ps(ray.origin.x), cx);
-  const __m128 ocy = _mm_sub_ps(_mm_set1_ps(ray.origin.y), cy);
-  const __m128 ocz = _mm_sub_ps(_mm_set1_ps(ray.origin.z), cz);
-  const __m128 dx = _mm_set1_ps(ray.dir.x), dy = _mm_set1_ps(ray.dir.y), dz = _mm_set1_ps(ray.dir.z);
+  const __m128 ocx = _mm_sub_ps(ray.ox, cx);
+  const __m128 ocy = _mm_sub_ps(ray.oy, cy);
+  const __m128 ocz = _mm_sub_ps(ray.oz, cz);
+  const __m128 dx = ray.dx, dy = ray.dy, dz = ray.dz;
   const __m128 b = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ocx, dx), _mm_mul_ps(ocy, dy)), _mm_mul_ps(ocz, dz));
-  const __m128 scale = _mm_mul_ps(b, _mm_set1_ps(ray.inv_dir_len2));
+  const __m128 scale = _mm_mul_ps(b, ray.inv_dir_len2);
   const __m128 fx = _mm_sub_ps(ocx, _mm_mul_ps(dx, scale));
   const __m128 fy = _mm_sub_ps(ocy, _mm_mul_ps(dy, scale));
   const __m128 fz = _mm_sub_ps(ocz, _mm_mul_ps(dz, scale));
   const __m128 r2 = _mm_mul_ps(radius, radius);
   const __m128 ff = _mm_add_ps(_mm_add_ps(_mm_mul_ps(fx, fx), _mm_mul_ps(fy, fy)), _mm_mul_ps(fz, fz));
-  const __m128 disc = _mm_mul_ps(_mm_set1_ps(ray.dir_len2), _mm_sub_ps(r2, ff));
+  const __m128 disc = _mm_mul_ps(ray.dir_len2, _mm_sub_ps(r2, ff));
   const __m128 zero = _mm_setzero_ps();
   const __m128 real = _mm_cmpge_ps(disc, zero);  // false for NaN, as !(disc >= 0) in sphere_root
   if (_mm_movemask_ps(real) == 0) return 0;
@@ -443,13 +455,13 @@ inline unsigned sphere_roots(const KernelRay& ray, const Bvh::Sphere* spheres, s
   const __m128 root = _mm_or_ps(_mm_andnot_ps(sign, _mm_sqrt_ps(disc)), _mm_and_ps(b, sign));  // copysign
   const __m128 q = _mm_xor_ps(_mm_add_ps(b, root), sign);
   const __m128 c = _mm_sub_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(ocx, ocx), _mm_mul_ps(ocy, ocy)), _mm_mul_ps(ocz, ocz)), r2);
-  const __m128 q_near = _mm_mul_ps(q, _mm_set1_ps(ray.inv_dir_len2));
+  const __m128 q_near = _mm_mul_ps(q, ray.inv_dir_len2);
   const __m128 q_nonzero = _mm_cmpneq_ps(q, zero);
   const __m128 q_far = _mm_and_ps(q_nonzero, _mm_div_ps(c, q));
   const __m128 swap = _mm_cmplt_ps(q_far, q_near);
   const __m128 t_near = _mm_or_ps(_mm_and_ps(swap, q_far), _mm_andnot_ps(swap, q_near));
   const __m128 t_far = _mm_or_ps(_mm_and_ps(swap, q_near), _mm_andnot_ps(swap, q_far));
-  const __m128 vt_min = _mm_set1_ps(t_min);
+  const __m128 vt_min = ray.t_min;
   const __m128 near_ok = _mm_cmpgt_ps(t_near, vt_min);
   const __m128 chosen = _mm_or_ps(_mm_and_ps(near_ok, t_near), _mm_andnot_ps(near_ok, t_far));
   _mm_storeu_ps(t, chosen);
@@ -498,15 +510,18 @@ Bvh Bvh::build(std::span<const Vec3f> centers, std::span<const float> radii) {
   bvh.index_.resize(n);
   for (std::size_t i = 0; i < n; ++i) bvh.index_[i] = refs[i].index;
   std::vector<PrimRef>().swap(refs);
-  bvh.spheres_.resize(n);
+  // Three copies of the last sphere after the others: a leaf's four lanes are loaded from its first sphere on,
+  // whatever its count.
+  bvh.spheres_.resize(n + kLeafPadding);
   for (std::size_t i = 0; i < n; ++i) bvh.spheres_[i] = {centers[bvh.index_[i]], radii[bvh.index_[i]]};
+  for (std::size_t i = n; i < n + kLeafPadding; ++i) bvh.spheres_[i] = bvh.spheres_[n - 1];
   collapse(binary, bvh.nodes_);
   return bvh;
 }
 
 bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const {
   if (nodes_.empty()) return false;
-  const KernelRay kray = make_kernel_ray(ray);
+  const KernelRay4 kray = broadcast(make_kernel_ray(ray), t_min);
   const SlabRay sray = make_slab_ray(ray);
 
   bool found = false;
@@ -514,7 +529,7 @@ bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) co
   std::uint32_t best = 0;  // original index of the best sphere
   const auto visit_leaf = [&](std::uint32_t first, std::uint32_t count) {
     float t[4];
-    unsigned hits = sphere_roots(kray, &spheres_[first], count, t_min, t);
+    unsigned hits = sphere_roots(kray, &spheres_[first], count, t);
     for (; hits != 0; hits &= hits - 1) {
       const int k = __builtin_ctz(hits);
       const std::uint32_t original = index_[first + static_cast<std::uint32_t>(k)];
@@ -574,7 +589,7 @@ bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) co
   return found;
 }
 
-std::size_t Bvh::sphere_count() const { return spheres_.size(); }
+std::size_t Bvh::sphere_count() const { return index_.size(); }
 std::size_t Bvh::node_count() const { return nodes_.size(); }
 std::size_t Bvh::memory_bytes() const {
   return sizeof(*this) + nodes_.capacity() * sizeof(Node) + spheres_.capacity() * sizeof(Sphere) +
