@@ -9,6 +9,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <tripsitter/display/png.h>
 
@@ -233,6 +234,24 @@ TEST_F(Cli, MalformedSceneFilesAreRejectedWithAPlaceAndNoOutput) {
   }
 }
 
+// One scene measured in each mode: the JSON has the machine, the timings apart and the figure on the threads asked.
+TEST_F(Cli, BenchMeasuresOneSceneAsJson) {
+  for (const char* mode : {"hw", "normal", "path"}) {
+    const Result r = run(std::string("bench --scene demo --mode ") + mode + " --threads 1 --seconds 0 --runs 1 --json");
+    ASSERT_EQ(r.exit_code, 0) << mode << "\n" << r.err;
+    const auto doc = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(doc.contains("machine")) << r.out;
+    EXPECT_EQ(doc["scene"]["spheres"], 1) << r.out;
+    const std::string figure = std::string(mode) == "hw" ? "hw_fps" : (std::string(mode) == "normal" ? "primary_mrays" : "path_msamples");
+    ASSERT_TRUE(doc.contains(figure)) << r.out;
+    EXPECT_GT(doc[figure]["threads_1"].get<double>(), 0.0) << r.out;
+    EXPECT_FALSE(doc[figure].contains("threads_2")) << r.out;
+    if (std::string(mode) != "hw") {
+      EXPECT_TRUE(doc.contains("build_seconds")) << r.out;
+    }
+  }
+}
+
 // Bad flags of every subcommand: exit code 2, a message naming the flag, nothing written.
 TEST_F(Cli, BadFlagsExitTwoAndNameTheFlag) {
   struct Case {
@@ -258,6 +277,10 @@ TEST_F(Cli, BadFlagsExitTwoAndNameTheFlag) {
       {"run --mode sideways", "--mode"},
       {"link decode --wire v9", "wire"},
       {"bench --runs 0", "--runs"},
+      {"bench --mode path", "--mode"},                       // --mode is for --scene
+      {"bench --scene demo --mode sideways", "--mode"},
+      {"bench --scene " + path("missing.json") + " --mode path", "missing.json"},
+      {"bench --scene demo --threads 0", "--threads"},
       {"host --connect nowhere", "nowhere"},
   };
   for (const auto& c : cases) {
