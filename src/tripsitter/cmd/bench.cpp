@@ -118,9 +118,7 @@ class Report {
     std::printf("\ncompiler: %s%s; Embree: %s\n", m["compiler"].get<std::string>().c_str(),
                 m["assertions"].get<bool>() ? " (assertions on: not an optimised build)" : "",
                 m["embree"].is_null() ? "not built in" : m["embree"].get<std::string>().c_str());
-    std::printf("each figure: median of %d runs of at least %.2f s\n\n", o.runs, o.seconds);
-    std::printf("%-24s %7s %12s  %-10s %12s  %-16s %8s\n", "figure", "threads", "value", "unit", "Embree", "Embree's best",
-                "ours/Embree");
+    std::printf("each figure: median of %d runs of at least %.2f s\n", o.runs, o.seconds);
   }
 
   void note(const std::string& key, const json& value) { doc_[key] = value; }
@@ -140,6 +138,11 @@ class Report {
       std::cerr << figure << " on " << threads << " thread(s): " << value << " " << unit << "\n";
       return;
     }
+    if (!table_started_) {
+      std::printf("\n%-24s %7s %12s  %-10s %12s  %-16s %8s\n", "figure", "threads", "value", "unit", "Embree",
+                  "Embree's best", "ours/Embree");
+      table_started_ = true;
+    }
     std::printf("%-24s %7d %12.2f  %-10s", figure.c_str(), threads, value, unit.c_str());
     if (embree) std::printf(" %12.2f  %-16s %8.2f", embree->first, embree->second.c_str(), value / embree->first);
     std::printf("\n");
@@ -153,6 +156,7 @@ class Report {
  private:
   const BenchOptions& o_;
   json doc_;
+  bool table_started_ = false;
 };
 
 std::vector<int> thread_counts(const BenchOptions& o) {
