@@ -105,7 +105,8 @@ render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& sc
   });
 
   if (job.is_root()) {
-    // Samples counted per rank; a rank is done when its rows have arrived and its last count, its total.
+    // Samples counted per rank. Another rank is done when its rows have arrived and so has its last count,
+    // which is its total: then no message of it is left unreceived.
     std::vector<std::uint64_t> counted(static_cast<std::size_t>(size), 0);
     std::vector<bool> counted_all(static_cast<std::size_t>(size), false);
     std::uint64_t reported = 0;

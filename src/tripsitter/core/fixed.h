@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 
 namespace tripsitter::core {
@@ -14,6 +15,13 @@ namespace tripsitter::core {
 // 128-bit integers for the device's widest intermediates (b^2 needs up to about 90 bits in the wide preset).
 __extension__ typedef __int128 Int128;
 __extension__ typedef unsigned __int128 UInt128;
+
+// Thrown by a fixed-point check (device/worker.h): an intermediate outside the width docs/device.md gives it, which the
+// board's registers would have silently wrapped.
+class FixedPointOverflow : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
 
 struct Quantized {
   std::int64_t raw = 0;

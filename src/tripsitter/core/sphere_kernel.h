@@ -29,6 +29,11 @@
 //   int  Arith::floor_div(Wide n, Wide d)      d > 0; floor(n / d), saturated to the int range
 //   Wide Arith::round_div(Wide n, Wide d)      d > 0; n / d on the position grid: to nearest, or exact
 //   Vec3<Wide> Arith::scale_direction(Vec3<Wide> r)   r times 2^-s, s >= 0 the least making max |r_k| <= 2^20
+// and optionally
+//   void arith.check(Wide v, Width which)       checks v against the bound of the intermediate `which`
+// (the device's fixed point checks the widths docs/device.md gives, in builds with TRIPSITTER_CHECK_FIXED).
+// Every intermediate is checked before it enters a product, so a check sees the true value, never a
+// wrapped one.
 #pragma once
 
 #include <algorithm>
@@ -46,6 +51,35 @@ inline constexpr int kDirectionBits = 20;
 // The bounce cut-off's upper limit: the colour mix base * prod(albedo) stays below 14 * 255^6 < 2^53, so the
 // double instantiation computes it as exactly as the integer one.
 inline constexpr int kMaxBounces = 6;
+
+// The intermediates with a documented bound (docs/device.md, "Widths").
+enum class Width {
+  kCentre,        // c_k of scene memory
+  kRadius,        // r of scene memory (and r >= 1)
+  kOrigin,        // o_k, a ray's origin: 0 or a hit point
+  kDirection,     // d_k
+  kToCentre,      // oc_k = c_k - o_k
+  kA,             // a = d.d
+  kB,             // b = 2 d.oc
+  kCPrime,        // c' = oc.oc - r^2
+  kSquare,        // b^2, 4ac'
+  kDisc,          // D = b^2 - 4ac'
+  kNum,           // num = b - sqrt(D)
+  kNumTimesD,     // num d_k, and n_num = num d_k - 2a oc_k
+  kShadeDen,      // den = 2a r (and den >= 1)
+  kShadeSum,      // 7 n_num + 7 den
+  kHitNormal,     // m_k = p_k - c_k
+  kNormalSquare,  // m.m
+  kDirNormal,     // d.m
+  kReflected,     // r_k = d_k (m.m) - 2 (d.m) m_k
+  kTint,          // base channel * prod(albedo), and 255^bounces
+};
+
+// Lets arith check v when it has a check member (the device's fixed point); nothing otherwise.
+template <class Arith>
+void check_width(const Arith& arith, const typename Arith::Wide& v, Width which) {
+  if constexpr (requires { arith.check(v, which); }) arith.check(v, which);
+}
 
 template <class Coord>
 struct KernelSphere {
@@ -86,18 +120,34 @@ KernelHit<typename Arith::Wide> closest_hit(const Arith& arith, const KernelRay<
   using Wide = typename Arith::Wide;
   const Vec3<Wide>& d = ray.direction;
   const Vec3<Wide>& o = ray.origin;
+  for (int k = 0; k < 3; ++k) {
+    check_width(arith, o[k], Width::kOrigin);
+    check_width(arith, d[k], Width::kDirection);
+  }
   const Wide a = dot(d, d);
+  check_width(arith, a, Width::kA);
   KernelHit<Wide> best;
   for (int i = 0; i < static_cast<int>(spheres.size()); ++i) {
     if (i == excluded) continue;
     const auto& s = spheres[static_cast<std::size_t>(i)];
+    for (int k = 0; k < 3; ++k) check_width(arith, Wide(s.center[k]), Width::kCentre);
+    check_width(arith, Wide(s.radius), Width::kRadius);
     const Vec3<Wide> oc{Wide(s.center.x) - o.x, Wide(s.center.y) - o.y, Wide(s.center.z) - o.z};
+    for (int k = 0; k < 3; ++k) check_width(arith, oc[k], Width::kToCentre);
     const Wide r = Wide(s.radius);
     const Wide b = Wide(2) * dot(d, oc);
     const Wide c_prime = dot(oc, oc) - r * r;
-    const Wide disc = b * b - Wide(4) * a * c_prime;
+    check_width(arith, b, Width::kB);
+    check_width(arith, c_prime, Width::kCPrime);
+    const Wide b2 = b * b;
+    const Wide ac4 = Wide(4) * a * c_prime;
+    check_width(arith, b2, Width::kSquare);
+    check_width(arith, ac4, Width::kSquare);
+    const Wide disc = b2 - ac4;
+    check_width(arith, disc, Width::kDisc);
     if (disc < Wide(0)) continue;
     const Wide num = b - arith.sqrt(disc);
+    check_width(arith, num, Width::kNum);
     if (!(num > Wide(0))) continue;  // the near intersection is behind the origin (or the origin is inside)
     if (best.index < 0 || num < best.num) best = {i, num};
   }
@@ -106,36 +156,51 @@ KernelHit<typename Arith::Wide> closest_hit(const Arith& arith, const KernelRay<
 
 // Normal-map colour of a hit (SPEC.md section B).
 template <class Arith>
-Rgb444 normal_colour(const KernelRay<typename Arith::Wide>& ray, const KernelSphere<typename Arith::Coord>& s,
-                     typename Arith::Wide num) {
+Rgb444 normal_colour(const Arith& arith, const KernelRay<typename Arith::Wide>& ray,
+                     const KernelSphere<typename Arith::Coord>& s, typename Arith::Wide num) {
   using Wide = typename Arith::Wide;
   const Vec3<Wide>& d = ray.direction;
   const Wide two_a = Wide(2) * dot(d, d);
   const Wide den = two_a * Wide(s.radius);
+  check_width(arith, den, Width::kShadeDen);
   int ch[3];
   for (int k = 0; k < 3; ++k) {
-    const Wide n_num = num * d[k] - two_a * (Wide(s.center[k]) - ray.origin[k]);  // n_k = n_num / den
-    ch[k] = std::clamp(Arith::floor_div(Wide(7) * n_num + Wide(7) * den, den), 0, 14);
+    const Wide num_d = num * d[k];
+    check_width(arith, num_d, Width::kNumTimesD);
+    const Wide n_num = num_d - two_a * (Wide(s.center[k]) - ray.origin[k]);  // n_k = n_num / den
+    check_width(arith, n_num, Width::kNumTimesD);
+    const Wide sum = Wide(7) * n_num + Wide(7) * den;
+    check_width(arith, sum, Width::kShadeSum);
+    ch[k] = std::clamp(Arith::floor_div(sum, den), 0, 14);
   }
   return Rgb444::from_channels(ch[0], ch[1], ch[2]);
 }
 
 // The ray reflected off sphere s, which `ray` hits with `num` (from closest_hit).
 template <class Arith>
-KernelRay<typename Arith::Wide> reflect(const KernelRay<typename Arith::Wide>& ray,
+KernelRay<typename Arith::Wide> reflect(const Arith& arith, const KernelRay<typename Arith::Wide>& ray,
                                         const KernelSphere<typename Arith::Coord>& s, typename Arith::Wide num) {
   using Wide = typename Arith::Wide;
   const Vec3<Wide>& d = ray.direction;
   const Wide two_a = Wide(2) * dot(d, d);
   Vec3<Wide> p, m;
   for (int k = 0; k < 3; ++k) {
-    p[k] = ray.origin[k] + Arith::round_div(num * d[k], two_a);  // the hit point o + t d
-    m[k] = p[k] - Wide(s.center[k]);                             // the outward normal, length about r
+    const Wide num_d = num * d[k];
+    check_width(arith, num_d, Width::kNumTimesD);
+    p[k] = ray.origin[k] + Arith::round_div(num_d, two_a);  // the hit point o + t d
+    check_width(arith, p[k], Width::kOrigin);
+    m[k] = p[k] - Wide(s.center[k]);  // the outward normal, length about r
+    check_width(arith, m[k], Width::kHitNormal);
   }
   const Wide mm = dot(m, m);
   const Wide dm = dot(d, m);
+  check_width(arith, mm, Width::kNormalSquare);
+  check_width(arith, dm, Width::kDirNormal);
   Vec3<Wide> r;
-  for (int k = 0; k < 3; ++k) r[k] = d[k] * mm - Wide(2) * dm * m[k];
+  for (int k = 0; k < 3; ++k) {
+    r[k] = d[k] * mm - Wide(2) * dm * m[k];
+    check_width(arith, r[k], Width::kReflected);
+  }
   return {p, Arith::scale_direction(r)};
 }
 
@@ -145,7 +210,7 @@ KernelRay<typename Arith::Wide> reflect(const KernelRay<typename Arith::Wide>& r
 // KernelSurface. (The device's fast model supplies exact shortcuts; trace_pixel below the plain search.)
 // REQUIRES 0 <= max_bounces <= kMaxBounces.
 template <class Arith, class SurfaceOf, class ClosestHit>
-PixelTrace trace_pixel_with(const Vec3<typename Arith::Wide>& d,
+PixelTrace trace_pixel_with(const Arith& arith, const Vec3<typename Arith::Wide>& d,
                             std::span<const KernelSphere<typename Arith::Coord>> spheres, const SurfaceOf& surface_of,
                             Rgb444 background, int max_bounces, const ClosestHit& closest) {
   using Wide = typename Arith::Wide;
@@ -161,10 +226,10 @@ PixelTrace trace_pixel_with(const Vec3<typename Arith::Wide>& d,
     const auto& s = spheres[static_cast<std::size_t>(hit.index)];
     const KernelSurface surface = surface_of(hit.index);
     if (!surface.metal || bounces >= max_bounces) {
-      base = normal_colour<Arith>(ray, s, hit.num);
+      base = normal_colour(arith, ray, s, hit.num);
       break;
     }
-    ray = reflect<Arith>(ray, s, hit.num);
+    ray = reflect(arith, ray, s, hit.num);
     excluded = hit.index;
     ++bounces;
     for (std::size_t k = 0; k < 3; ++k) tint[k] = tint[k] * Wide(surface.albedo[k]);
@@ -173,7 +238,12 @@ PixelTrace trace_pixel_with(const Vec3<typename Arith::Wide>& d,
   if (bounces == 0) return {base, 0};
   const std::array<int, 3> channels{base.r(), base.g(), base.b()};
   std::array<int, 3> mixed{};
-  for (std::size_t k = 0; k < 3; ++k) mixed[k] = std::clamp(Arith::floor_div(Wide(channels[k]) * tint[k], tint_scale), 0, 15);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Wide tinted = Wide(channels[k]) * tint[k];
+    check_width(arith, tinted, Width::kTint);
+    check_width(arith, tint_scale, Width::kTint);
+    mixed[k] = std::clamp(Arith::floor_div(tinted, tint_scale), 0, 15);
+  }
   return {Rgb444::from_channels(mixed[0], mixed[1], mixed[2]), bounces};
 }
 
@@ -183,7 +253,7 @@ template <class Arith, class SurfaceOf>
 PixelTrace trace_pixel(const Arith& arith, const Vec3<typename Arith::Wide>& d,
                        std::span<const KernelSphere<typename Arith::Coord>> spheres, const SurfaceOf& surface_of,
                        Rgb444 background, int max_bounces) {
-  return trace_pixel_with<Arith>(d, spheres, surface_of, background, max_bounces,
+  return trace_pixel_with(arith, d, spheres, surface_of, background, max_bounces,
                                  [&](const KernelRay<typename Arith::Wide>& ray, int excluded, int) {
                                    return closest_hit(arith, ray, spheres, excluded);
                                  });

@@ -116,8 +116,8 @@ TEST(Mirror, ZeroBouncesShadeMetalsAsTheBoardDid) {
       const core::KernelRay<core::Int128> ray{{}, device_ray(col, row)};
       const auto hit = core::closest_hit(arith, ray, spheres);
       ASSERT_EQ(t.colour, hit.index < 0 ? core::kBackground
-                                        : core::normal_colour<FixedArith>(
-                                              ray, spheres[static_cast<std::size_t>(hit.index)], hit.num));
+                                        : core::normal_colour(arith, ray, spheres[static_cast<std::size_t>(hit.index)],
+                                                              hit.num));
       metal_pixels += hit.index >= 0 && m.surfaces[static_cast<std::size_t>(hit.index)].material == kMetal;
     }
   EXPECT_GT(metal_pixels, 1000);

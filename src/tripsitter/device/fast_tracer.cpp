@@ -61,11 +61,18 @@ struct CameraArith {
 }  // namespace
 
 FastTracer::FastTracer(const DevicePreset& preset)
-    : preset_(preset), controller_(preset), arith_{SqrtUnit(preset.sqrt_iterations)} {}
+    : preset_(preset),
+      controller_(preset),
+      arith_{SqrtUnit(preset.sqrt_iterations), FixedArith::extra_bits_of(preset)} {}
 
 void FastTracer::load(const SceneMemory& scene) {
   scene_ = &scene;
   const std::size_t n = scene.geometry.size();
+  // The fast paths' searches check no widths; their inputs are what every bound derives from.
+  for (const auto& s : scene.geometry) {
+    for (int k = 0; k < 3; ++k) arith_.check(s.center[k], core::Width::kCentre);
+    arith_.check(s.radius, core::Width::kRadius);
+  }
   narrow_ = std::all_of(scene.geometry.begin(), scene.geometry.end(), [](const core::KernelSphere<std::int64_t>& s) {
     return std::abs(s.center.x) < kNarrowLimit && std::abs(s.center.y) < kNarrowLimit &&
            std::abs(s.center.z) < kNarrowLimit && s.radius >= 0 && s.radius < kNarrowLimit;
@@ -215,11 +222,11 @@ LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const 
     if (preset_.max_bounces == 0 || !kernel_surface(scene, best[c]).metal) {
       const core::KernelRay<std::int64_t> camera{{}, {col - kImagePlane, dy, kImagePlane}};
       return core::PixelTrace{
-          core::normal_colour<CameraArith>(camera, spheres[static_cast<std::size_t>(best[c])], best_num[c]), 0};
+          core::normal_colour(CameraArith{}, camera, spheres[static_cast<std::size_t>(best[c])], best_num[c]), 0};
     }
     const core::KernelHit<Int128> primary{best[c], Int128{best_num[c]}};
-    return core::trace_pixel_with<FixedArith>(
-        device_ray(col, row), spheres, surface_of, core::kBackground, preset_.max_bounces,
+    return core::trace_pixel_with(
+        arith_, device_ray(col, row), spheres, surface_of, core::kBackground, preset_.max_bounces,
         [&](const core::KernelRay<Int128>& ray, int excluded, int pass) {
           return pass == 0 ? primary : closest_hit(ray, excluded);
         });

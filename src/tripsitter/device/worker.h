@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <string>
+#include <utility>
 
 #include <tripsitter/core/fixed.h>
 #include <tripsitter/core/rgb444.h>
@@ -16,7 +18,20 @@
 #include <tripsitter/device/sqrt_unit.h>
 #include <tripsitter/link/wire_v2.h>
 
+// Checks of the device's fixed-point invariants (docs/device.md, "Widths"): 1 compiles them in. Unless the
+// build defines it (CMake's TRIPSITTER_CHECK_FIXED, for every target using the device library; on in the
+// sanitizer presets), it follows NDEBUG: on in Debug builds, off in Release.
+#ifndef TRIPSITTER_CHECK_FIXED
+#ifdef NDEBUG
+#define TRIPSITTER_CHECK_FIXED 0
+#else
+#define TRIPSITTER_CHECK_FIXED 1
+#endif
+#endif
+
 namespace tripsitter::device {
+
+inline constexpr bool kCheckFixed = TRIPSITTER_CHECK_FIXED != 0;
 
 // The kernel's arithmetic on the device: raw fixed point in 64 bits, products in 128, the square-root unit.
 // docs/device.md bounds every intermediate; the widest (b^2 and 4ac' of a reflected ray) stays below 2^95.
@@ -25,6 +40,27 @@ struct FixedArith {
   using Wide = core::Int128;
 
   SqrtUnit sqrt_unit;
+  // Bits the preset's formats add to each length beyond the wide preset's 24 (0 for narrower formats).
+  int extra_bits = 0;
+
+  // The extra bits of a preset's formats (the widest of x, y, z and the radius).
+  static int extra_bits_of(const DevicePreset& preset) {
+    return std::max({0, preset.x.total_bits - 24, preset.y.total_bits - 24, preset.z.total_bits - 24,
+                     preset.radius.total_bits - 24});
+  }
+
+  // |v| < 2^bits for the bound docs/device.md ("Widths") gives `which` in the wide preset, plus
+  // extra_bits for each length it is the product of (the bounds grow with the formats); den and the
+  // radius at least 1 (the shading divides by den = 2ar). Throws core::FixedPointOverflow otherwise.
+  // Compiled in with TRIPSITTER_CHECK_FIXED (above).
+  void check(Wide v, core::Width which) const {
+    if constexpr (kCheckFixed) {
+      const auto [bits, lengths] = width_of(which);
+      const int allowed = bits + lengths * extra_bits;
+      const bool positive = which != core::Width::kShadeDen && which != core::Width::kRadius;
+      if ((magnitude(v) >> allowed) != 0 || (!positive && v < 1)) overflow(v, which, allowed);
+    }
+  }
 
   Wide sqrt(Wide d) const {
     assert(d >= 0 && d < (Wide{1} << 126));
@@ -63,6 +99,39 @@ struct FixedArith {
   }
 
  private:
+  // Each intermediate's width in the wide preset (bits of its magnitude) and how many lengths it is the
+  // product of: the table of docs/device.md, "Widths".
+  static std::pair<int, int> width_of(core::Width which) {
+    switch (which) {
+      case core::Width::kCentre: return {24, 1};
+      case core::Width::kRadius: return {24, 1};
+      case core::Width::kOrigin: return {25, 1};
+      case core::Width::kDirection: return {21, 0};
+      case core::Width::kToCentre: return {26, 1};
+      case core::Width::kA: return {42, 0};
+      case core::Width::kB: return {48, 1};
+      case core::Width::kCPrime: return {51, 2};
+      case core::Width::kSquare: return {95, 2};
+      case core::Width::kDisc: return {95, 2};
+      case core::Width::kNum: return {49, 1};
+      case core::Width::kNumTimesD: return {70, 1};
+      case core::Width::kShadeDen: return {68, 1};
+      case core::Width::kShadeSum: return {73, 1};
+      case core::Width::kHitNormal: return {25, 1};
+      case core::Width::kNormalSquare: return {50, 2};
+      case core::Width::kDirNormal: return {46, 1};
+      case core::Width::kReflected: return {72, 2};
+      case core::Width::kTint: return {52, 0};
+    }
+    return {0, 0};
+  }
+  [[noreturn]] static void overflow(Wide v, core::Width which, int allowed) {
+    const auto m = magnitude(v);
+    throw core::FixedPointOverflow("fixed-point invariant broken: intermediate #" +
+                                   std::to_string(static_cast<int>(which)) + " needs " +
+                                   std::to_string(bit_length(m)) + " bits, at most " + std::to_string(allowed) +
+                                   " allowed (docs/device.md, Widths)" + (v < 1 ? " or it must be at least 1" : ""));
+  }
   static bool fits_64(Wide v) {
     return v >= std::numeric_limits<std::int64_t>::min() && v <= std::numeric_limits<std::int64_t>::max();
   }
@@ -88,9 +157,11 @@ inline core::KernelSurface kernel_surface(const SceneMemory& scene, int i) {
 class Worker {
  public:
   // REQUIRES 0 <= max_bounces <= core::kMaxBounces.
+  // Formats up to 24 bits (the widths checked are the wide preset's).
   explicit Worker(int sqrt_iterations, int max_bounces = 0)
       : arith_{SqrtUnit(sqrt_iterations)}, max_bounces_(max_bounces) {}
-  explicit Worker(const DevicePreset& preset) : Worker(preset.sqrt_iterations, preset.max_bounces) {}
+  explicit Worker(const DevicePreset& preset)
+      : arith_{SqrtUnit(preset.sqrt_iterations), FixedArith::extra_bits_of(preset)}, max_bounces_(preset.max_bounces) {}
 
   // One pixel in the mirror model: closest hit over all spheres; a metal reflects (up to max_bounces
   // times) and tints what its reflected ray sees; anything else is normal-map shaded; a miss is 0x036.
