@@ -12,7 +12,7 @@ Board::Board(scene::Scene scene, BoardConfig config)
     : config_(config),
       host_(std::move(scene), formats_of(config.preset), config.wire),
       link_(config.spi),
-      device_(config.preset, config.wire, config.device_threads) {}
+      device_(config.preset, config.wire, config.device_threads, config.device_model) {}
 
 ShownFrame Board::show(const std::function<void(const device::VgaSample&)>& probe) {
   const host::ReadyWorld& world = host_.update();

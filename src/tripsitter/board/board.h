@@ -21,6 +21,7 @@ struct BoardConfig {
   link::WireVersion wire = link::WireVersion::kV2;
   link::SpiConfig spi;
   int device_threads = 0;  // threads the device model computes a frame's lines on (Device's `threads`)
+  device::DeviceModel device_model = device::DeviceModel::kFast;  // kPlain: the reference model
 };
 
 // What one shown frame cost and reported.

@@ -12,10 +12,10 @@ DevicePreset checked(const DevicePreset& preset) {
 
 }  // namespace
 
-Device::Device(const DevicePreset& preset, link::WireVersion wire, int threads)
+Device::Device(const DevicePreset& preset, link::WireVersion wire, int threads, DeviceModel model)
     : preset_(checked(preset)), receiver_(preset_, wire),
       controller_(preset_),
-      ahead_(threads == 1 ? nullptr : std::make_unique<FrameLines>(preset_, threads)) {
+      ahead_(model == DeviceModel::kPlain ? nullptr : std::make_unique<FrameLines>(preset_, threads)) {
   // Out of reset at the start of vertical blanking.
   while (vga_.line() != vga_.mode().v_visible) vga_.tick();
 }

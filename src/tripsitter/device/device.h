@@ -33,14 +33,19 @@ struct FrameStats {
   int late_lines = 0;
 };
 
+// Which model computes the pixels. Both show the same pixels and count the same late pixels, bit for bit.
+enum class DeviceModel {
+  kPlain,  // each line when the controller starts it, pixel by pixel with Worker::trace: the reference
+  kFast,   // the fast model (FastTracer), a frame's lines computed ahead of the beam (FrameLines)
+};
+
 class Device : public link::Endpoint {
  public:
-  // REQUIRES preset.validate() is empty. `threads` only changes how fast the model runs, never what it
-  // shows: 1 computes each line when the controller starts it, pixel by pixel with Worker::trace (the
-  // plain model); any other value computes a frame's lines with the fast model (FastTracer) ahead of the
-  // beam from the start of vertical blanking, on that many threads counting the caller's (0: every core;
-  // FrameLines).
-  Device(const DevicePreset& preset, link::WireVersion wire, int threads = 0);
+  // REQUIRES preset.validate() is empty. The model only changes how fast the device runs, never what it
+  // shows. kFast computes a frame's lines ahead of the beam from vertical blanking on, on `threads`
+  // threads counting the caller's (0: every core; 1: the caller alone, each line when it is needed).
+  // kPlain ignores `threads`.
+  Device(const DevicePreset& preset, link::WireVersion wire, int threads = 0, DeviceModel model = DeviceModel::kFast);
 
   // link::Endpoint: the ready line and one SPI transfer.
   bool ready() const override { return receiver_.ready(); }
@@ -73,7 +78,7 @@ class Device : public link::Endpoint {
   SceneMemory scene_;
   VgaTimingGenerator vga_;
   std::array<std::array<core::Rgb444, kLineWidth>, 2> line_buffers_{};
-  std::unique_ptr<FrameLines> ahead_;  // the fast model's lines (threads != 1), else null
+  std::unique_ptr<FrameLines> ahead_;  // the fast model's lines, null for the plain model
   int front_ = 0;  // index of the line buffer the VGA block reads
   FrameStats building_;
   std::uint64_t total_late_pixels_ = 0;

@@ -148,12 +148,12 @@ TEST(Device, BouncingPixelsAreLateOnEveryLine) {
   EXPECT_NE(pixels[100 * 640 + 5], core::kBlack);
 }
 
-// The parallel model (lines computed ahead at vertical blanking) shows exactly what the plain model shows,
-// frame after frame, late pixels included.
+// The fast model on two threads (lines computed ahead from vertical blanking on) shows exactly what the
+// plain model shows, frame after frame, late pixels included.
 TEST(Device, ParallelFramesEqualThePlainModel) {
   std::mt19937 rng(12);
   for (const DevicePreset& p : {wide_preset(), board_2023_preset()}) {
-    Device plain(p, link::WireVersion::kV2, 1), parallel(p, link::WireVersion::kV2, 2);
+    Device plain(p, link::WireVersion::kV2, 1, DeviceModel::kPlain), parallel(p, link::WireVersion::kV2, 2);
     for (int world = 0; world < 4; ++world) {
       std::vector<std::array<double, 4>> spheres;
       std::uniform_real_distribution<double> xy(-300, 300), z(150, 1500), r(5, 120);
@@ -175,7 +175,7 @@ TEST(Device, ParallelFramesEqualThePlainModel) {
 // position afterwards.
 TEST(Device, RunFrameGivesTheSamplesOfTick) {
   const DevicePreset p = board_2023_preset();
-  Device by_frame(p, link::WireVersion::kV2, 1), by_tick(p, link::WireVersion::kV2, 1);
+  Device by_frame(p, link::WireVersion::kV2, 1, DeviceModel::kPlain), by_tick(p, link::WireVersion::kV2, 1, DeviceModel::kPlain);
   for (int frame = 0; frame < 2; ++frame) {
     const auto bytes = frame_of(p, static_cast<std::uint32_t>(frame + 1), {{0, 0, 400, 64}, {-100, 50, 300, 30}});
     by_frame.transfer(bytes);
@@ -189,13 +189,14 @@ TEST(Device, RunFrameGivesTheSamplesOfTick) {
   EXPECT_NO_THROW(by_tick.run_frame([](const VgaSample&) {}));  // back at the start of vertical blanking
 }
 
-// The fast model (threads != 1) against the plain one, whole frames through the wire and the VGA signal,
-// with mirrors: the same pixels and the same late pixels and lines, frame after frame; with one helper
-// thread, and with three driven a clock at a time.
+// The fast model against the plain one, whole frames through the wire and the VGA signal, with mirrors:
+// the same pixels and the same late pixels and lines, frame after frame; with one helper thread, with none,
+// and with three driven a clock at a time.
 TEST(Device, FastFramesWithMirrorsEqualThePlainModel) {
   std::mt19937 rng(21);
   for (const DevicePreset& p : {wide_preset(), board_2023_preset()}) {
-    Device plain(p, link::WireVersion::kV2, 1), fast(p, link::WireVersion::kV2, 2), ticked(p, link::WireVersion::kV2, 4);
+    Device plain(p, link::WireVersion::kV2, 1, DeviceModel::kPlain), fast(p, link::WireVersion::kV2, 2),
+        ticked(p, link::WireVersion::kV2, 4), alone(p, link::WireVersion::kV2, 1);
     for (int world = 0; world < 3; ++world) {
       std::vector<std::array<double, 4>> spheres;
       std::vector<std::array<std::uint8_t, 3>> albedos;
@@ -209,9 +210,12 @@ TEST(Device, FastFramesWithMirrorsEqualThePlainModel) {
       plain.transfer(bytes);
       fast.transfer(bytes);
       ticked.transfer(bytes);
-      FrameStats a, b;
+      alone.transfer(bytes);
+      FrameStats a, b, c;
       const auto expected = visible_pixels(plain, &a);
       ASSERT_EQ(expected, visible_pixels(fast, &b)) << p.name << " world " << world;
+      ASSERT_EQ(expected, visible_pixels(alone, &c)) << p.name << " world " << world;
+      EXPECT_EQ(c.late_lines, a.late_lines);
       std::vector<core::Rgb444> by_tick;
       for (int clock = 0; clock < 800 * 525; ++clock) {
         const VgaSample s = ticked.tick();

@@ -1,6 +1,6 @@
-// The fast model of the workers, which Device uses when it runs on more than one thread: for every line,
-// exactly the colours and late pixels of Controller::render_line (the plain model, a Worker::trace per
-// pixel), from exact integer shortcuts (docs/device.md, "The fast model"):
+// The fast model of the workers (Device's DeviceModel::kFast): for every line, exactly the colours and late
+// pixels of Controller::render_line (the plain model, a Worker::trace per pixel), from exact integer
+// shortcuts (docs/device.md, "The fast model"):
 //  - screen-space bounds. The rays of column x all lie in one plane through the camera, those of a row in
 //    another; a ray can only hit a sphere that both its planes meet, and no ray hits a sphere wholly behind
 //    the camera. So each sphere gets a range of columns and of rows, tested exactly in integers once per
