@@ -48,7 +48,7 @@ else
   build tsan
   ctest --preset tsan
   # Every fuzz target: its saved regressions, then 50,000 executions from its seed corpus (which replays
-  # every seed first); 2 min 16 s here, build included, on 2 busy cores. Why it cannot make CI flaky:
+  # every seed first): 1 min 20 s to 2 min 16 s here with the build, on 2 cores shared with other work. Why it cannot make CI flaky:
   # - the saved regressions and the seeds are replayed as they are, every time;
   # - the search is bounded by executions, not time, with a fixed seed and a fresh working corpus, so a
   #   slow or busy machine runs the same mutations as a fast one and nothing carries over from an
