@@ -15,7 +15,7 @@ esac
 packages=(g++ cmake make pkg-config libpng-dev nlohmann-json3-dev libcli11-dev libsdl2-dev libsdl2-ttf-dev
           fonts-dejavu-core libgtest-dev libbenchmark-dev
           libembree-dev               # optional: bench compares primary rays with Embree
-          libopenmpi-dev openmpi-bin  # optional: render --mpi across ranks
+          libopenmpi-dev openmpi-bin  # optional: render --mode path under mpirun
 )
 [ "$job" = test ] && packages+=(clang-14 libclang-rt-14-dev)  # the libFuzzer targets (scripts/fuzz.sh)
 missing=()

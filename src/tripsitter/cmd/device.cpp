@@ -84,7 +84,8 @@ void install_signal_handlers() {
 }
 
 void print_receiver(const device::ReceiverStats& rx) {
-  std::cerr << rx.worlds_accepted << " worlds accepted, " << rx.frames_rejected << " rejected, " << rx.garbage_runs
+  std::cerr << rx.worlds_accepted << " worlds accepted, " << rx.worlds_missing << " missing (sequence numbers skipped), "
+            << rx.frames_rejected << " rejected, " << rx.garbage_runs
             << " runs of garbage, " << rx.bytes_dropped << " bytes dropped";
   if (!rx.last_error.empty()) std::cerr << " (last error: " << rx.last_error << ")";
 }

@@ -195,7 +195,8 @@ int run_render(const RenderOptions& o) {
       if (probe) probe(s);
     });
     const auto& rx = dev.receiver_stats();
-    std::cerr << "device: " << rx.worlds_accepted << " worlds accepted, " << rx.frames_rejected
+    std::cerr << "device: " << rx.worlds_accepted << " worlds accepted, " << rx.worlds_missing
+              << " missing (sequence numbers skipped), " << rx.frames_rejected
               << " frames rejected, " << rx.garbage_runs << " runs of garbage (" << rx.bytes_dropped
               << " bytes dropped)\n";
     if (!stats.has_world)

@@ -46,7 +46,9 @@ class StopNotice {
   void (*previous_)(int) = SIG_DFL;
 };
 
-std::string on_ranks(const cluster::Job& job) { return " on " + std::to_string(job.size()) + " MPI ranks"; }
+std::string on_ranks(const cluster::Job& job) {
+  return " on " + std::to_string(job.size()) + (job.size() == 1 ? " MPI rank" : " MPI ranks");
+}
 
 // A still: rank r of K traces rows r, r + K, ...; rank 0 gathers them, reports and writes.
 int run_still(const cluster::Job& job, const RenderOptions& o, const scene::Scene& scene) {
