@@ -28,8 +28,10 @@ class WindowTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     setenv("SDL_VIDEODRIVER", "offscreen", 1);
-    // SDL's software renderer: no OpenGL, so no Mesa worker threads (which the thread sanitizer reports).
+    // SDL's software renderer, and its window surface kept in plain memory (by default SDL presents a software
+    // surface through an OpenGL texture): no OpenGL, so no Mesa worker threads for the thread sanitizer to report.
     setenv("SDL_RENDER_DRIVER", "software", 1);
+    setenv("SDL_FRAMEBUFFER_ACCELERATION", "0", 1);
   }
 };
 
