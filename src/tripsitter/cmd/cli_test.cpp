@@ -1,11 +1,8 @@
 // The command line as a user meets it: exit codes, messages, files written or not.
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -13,45 +10,25 @@
 
 #include <tripsitter/display/png.h>
 
+#include "command_test_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code = -1;
-  std::string out, err;
-};
+using tripsitter::cmd::test::Result;
+using tripsitter::cmd::test::slurp;
 
 class Cli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("tripsitter_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = tripsitter::cmd::test::scratch_dir("tripsitter_cli_"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
-  static std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
-
   // Runs tripsitter with `args` (shell words) and optional stdin file.
   Result run(const std::string& args, const std::string& stdin_file = "/dev/null") const {
-    const std::string cmd = std::string(TRIPSITTER_BIN) + " " + args + " <" + stdin_file + " >" + path("stdout") +
-                            " 2>" + path("stderr");
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir_ / "stdout");
-    r.err = slurp(dir_ / "stderr");
-    return r;
+    return tripsitter::cmd::test::run_shell(std::string(TRIPSITTER_BIN) + " " + args + " <" + stdin_file, dir_);
   }
 
   fs::path dir_;

@@ -1,16 +1,12 @@
 // render under Open MPI's mpirun on loopback (docs/mpi.md): the same bytes on 1, 2 and 4 ranks as without
 // mpirun, one message for bad input, and a job that loses a rank fails without writing its output.
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "command_test_util.h"
 
 namespace {
 
@@ -18,10 +14,8 @@ namespace fs = std::filesystem;
 
 const std::string kMpiexec = TRIPSITTER_MPIEXEC;  // empty in builds without MPI
 
-struct Result {
-  int exit_code = -1;
-  std::string out, err;
-};
+using tripsitter::cmd::test::Result;
+using tripsitter::cmd::test::slurp;
 
 std::size_t count(const std::string& text, const std::string& word) {
   std::size_t n = 0;
@@ -38,33 +32,14 @@ std::string numbered(std::string prefix, int n, const std::string& suffix) {
 
 class Mpi : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("tripsitter_mpi_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = tripsitter::cmd::test::scratch_dir("tripsitter_mpi_"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
-  static std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
-
   // Runs `command` (shell words) with stdout and stderr kept apart from the files the test looks at.
   Result shell(const std::string& command) const {
-    const std::string log = (dir_ / "log").string();
-    fs::create_directories(log);
-    const int status = std::system((command + " </dev/null >" + log + "/stdout 2>" + log + "/stderr").c_str());
-    Result r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(log + "/stdout");
-    r.err = slurp(log + "/stderr");
-    return r;
+    return tripsitter::cmd::test::run_shell(command + " </dev/null", dir_ / "log");
   }
 
   // tripsitter without mpirun.

@@ -14,7 +14,6 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -26,6 +25,8 @@
 #include <tripsitter/host/controls.h>
 #include <tripsitter/scene/builtin.h>
 
+#include "command_test_util.h"
+
 extern char** environ;
 
 namespace {
@@ -36,12 +37,7 @@ using Clock = std::chrono::steady_clock;
 using tripsitter::core::Image444;
 using tripsitter::host::Key;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using tripsitter::cmd::test::slurp;
 
 // Polls `ready` every few milliseconds until it holds or `limit` passes.
 template <class Ready>
@@ -138,9 +134,7 @@ Image444 expected_frame(const std::vector<HeldKey>& keys, const std::string& sce
 class TwoProcesses : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("tripsitter_2p_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
+    dir_ = tripsitter::cmd::test::scratch_dir("tripsitter_2p_");
     fs::create_directories(dir_ / "frames");
   }
   void TearDown() override {
