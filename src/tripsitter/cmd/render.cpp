@@ -98,23 +98,9 @@ void report(const board::ShownFrame& f) {
   if (f.spheres_dropped > 0) std::cerr << "host: " << f.spheres_dropped << " spheres beyond scene memory were not sent\n";
 }
 
-int run_path(const RenderOptions& o, const scene::Scene& scene) {
-  const render::PathSettings s = path_settings(o, scene);
-  const auto t0 = std::chrono::steady_clock::now();
-  const render::PathScene path_scene(scene.spheres);
-  const auto t1 = std::chrono::steady_clock::now();
-  const render::ThinLensCamera camera(scene.camera, s.width, s.height);
-  render::ImageRgbF image;
-  {
-    core::ProgressBar bar("path", samples_of(s), "samples", !o.quiet, std::cerr);
-    image = render::render_path(path_scene, camera, s, [&](std::uint64_t n) { bar.add(n); });
-  }
-  const auto t2 = std::chrono::steady_clock::now();
-  if (!o.quiet)
-    report_path(path_scene, s, std::chrono::duration<double>(t1 - t0).count(),
-                std::chrono::duration<double>(t2 - t1).count(), "");
-  write_image(o.out, render::to_srgb8(image));
-  return kExitOk;
+// Samples of a whole image.
+std::uint64_t samples_of(const render::PathSettings& s) {
+  return static_cast<std::uint64_t>(s.width) * static_cast<std::uint64_t>(s.height) * static_cast<std::uint64_t>(s.spp);
 }
 
 // --frames N --orbit DEG: the camera circles its target by DEG over the N frames (frame i at i * DEG / N,
@@ -213,7 +199,11 @@ int run_render(const RenderOptions& o) {
 
   scene::Scene scene = load_scene(o.scene);
   if (o.frames > 0) return run_animation(o, std::move(scene), preset, wire);
-  if (o.mode == "path") return run_path(o, scene);
+  if (o.mode == "path") {
+    return run_path_still(o, scene, [](const auto& path_scene, const auto& camera, const auto& s, const auto& on_samples) {
+      return render::render_path(path_scene, camera, s, on_samples);
+    }, true, "");
+  }
   if (o.mode == "normal") {
     host::Host host(scene, board::formats_of(preset), wire);
     const auto& world = host.update();
@@ -280,15 +270,29 @@ render::PathSettings path_settings(const RenderOptions& o, const scene::Scene& s
   return s;
 }
 
-std::uint64_t samples_of(const render::PathSettings& s) {
-  return static_cast<std::uint64_t>(s.width) * static_cast<std::uint64_t>(s.height) * static_cast<std::uint64_t>(s.spp);
-}
-
-void report_path(const render::PathScene& scene, const render::PathSettings& s, double build_seconds,
-                 double trace_seconds, const std::string& where) {
-  std::fprintf(stderr, "path: %zu spheres, BVH built in %.3f s; %dx%d at %d spp in %.2f s (%.2f Msamples/s)%s\n",
-               scene.size(), build_seconds, s.width, s.height, s.spp, trace_seconds,
-               static_cast<double>(samples_of(s)) / trace_seconds / 1e6, where.c_str());
+int run_path_still(const RenderOptions& o, const scene::Scene& scene, const PathTrace& trace, bool writes,
+                   const std::string& where) {
+  const render::PathSettings s = path_settings(o, scene);
+  const auto t0 = std::chrono::steady_clock::now();
+  const render::PathScene path_scene(scene.spheres);
+  const auto t1 = std::chrono::steady_clock::now();
+  const render::ThinLensCamera camera(scene.camera, s.width, s.height);
+  render::ImageRgbF image;
+  {
+    core::ProgressBar bar("path", samples_of(s), "samples", !o.quiet && writes, std::cerr);
+    image = trace(path_scene, camera, s, [&](std::uint64_t n) { bar.add(n); });
+  }
+  if (!writes) return kExitOk;
+  const auto t2 = std::chrono::steady_clock::now();
+  if (!o.quiet) {
+    std::fprintf(stderr, "path: %zu spheres, BVH built in %.3f s; %dx%d at %d spp in %.2f s (%.2f Msamples/s)%s\n",
+                 path_scene.size(), std::chrono::duration<double>(t1 - t0).count(), s.width, s.height, s.spp,
+                 std::chrono::duration<double>(t2 - t1).count(),
+                 static_cast<double>(samples_of(s)) / std::chrono::duration<double>(t2 - t1).count() / 1e6,
+                 where.c_str());
+  }
+  write_image(o.out, render::to_srgb8(image));
+  return kExitOk;
 }
 
 core::ImageRgb8 render_path_frame(const render::PathScene& scene, scene::CameraSettings camera, const host::Camera& at,

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <iostream>
+#include <functional>
 #include <string>
 
 #include <tripsitter/core/image.h>
@@ -53,11 +54,14 @@ void check_outputs(const RenderOptions& o);
 
 // The path tracer's settings: the command line's, else the scene's.
 render::PathSettings path_settings(const RenderOptions& o, const scene::Scene& scene);
-// Samples of a whole image.
-std::uint64_t samples_of(const render::PathSettings& s);
-// The summary line of a path-traced still on stderr; `where` ends it ("" or " on 4 MPI ranks").
-void report_path(const render::PathScene& scene, const render::PathSettings& s, double build_seconds,
-                 double trace_seconds, const std::string& where);
+// A path-traced still from start to end: the BVH built, `trace` run under a progress bar, the summary line
+// (ended by `where`: "" or " on 4 MPI ranks") and the image file. A process that only helps (an MPI rank other
+// than 0) passes writes = false: no bar, no summary, no file.
+using PathTrace = std::function<render::ImageRgbF(const render::PathScene&, const render::ThinLensCamera&,
+                                                  const render::PathSettings&,
+                                                  const std::function<void(std::uint64_t)>& on_samples)>;
+int run_path_still(const RenderOptions& o, const scene::Scene& scene, const PathTrace& trace, bool writes,
+                   const std::string& where);
 // One frame of a path-traced animation: the scene's camera moved to where the host's camera is now.
 core::ImageRgb8 render_path_frame(const render::PathScene& scene, scene::CameraSettings camera, const host::Camera& at,
                                   const render::PathSettings& s);

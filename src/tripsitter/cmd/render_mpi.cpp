@@ -2,7 +2,6 @@
 // (docs/mpi.md). Built only with MPI.
 #include <unistd.h>
 
-#include <chrono>
 #include <csignal>
 #include <exception>
 #include <iostream>
@@ -52,23 +51,9 @@ std::string on_ranks(const cluster::Job& job) {
 
 // A still: rank r of K traces rows r, r + K, ...; rank 0 gathers them, reports and writes.
 int run_still(const cluster::Job& job, const RenderOptions& o, const scene::Scene& scene) {
-  const render::PathSettings s = path_settings(o, scene);
-  const auto t0 = std::chrono::steady_clock::now();
-  const render::PathScene path_scene(scene.spheres);
-  const auto t1 = std::chrono::steady_clock::now();
-  const render::ThinLensCamera camera(scene.camera, s.width, s.height);
-  render::ImageRgbF image;
-  {
-    core::ProgressBar bar("path", samples_of(s), "samples", !o.quiet && job.is_root(), std::cerr);
-    image = cluster::render_path_shared(job, path_scene, camera, s, [&](std::uint64_t n) { bar.add(n); });
-  }
-  if (!job.is_root()) return kExitOk;
-  const auto t2 = std::chrono::steady_clock::now();
-  if (!o.quiet)
-    report_path(path_scene, s, std::chrono::duration<double>(t1 - t0).count(),
-                std::chrono::duration<double>(t2 - t1).count(), on_ranks(job));
-  write_image(o.out, render::to_srgb8(image));
-  return kExitOk;
+  return run_path_still(o, scene, [&job](const auto& path_scene, const auto& camera, const auto& s, const auto& on_samples) {
+    return cluster::render_path_shared(job, path_scene, camera, s, on_samples);
+  }, job.is_root(), on_ranks(job));
 }
 
 // An animation: frame i is rendered whole by rank i % K; rank 0 writes the frames in order (and feeds ffmpeg).
