@@ -18,7 +18,7 @@ class ThinLensCamera {
   // The ray through the pixel's centre from the lens centre (no jitter, no defocus).
   Ray centre_ray(int col, int row) const;
 
-  // What centre_ray computes from: its direction is (pixel00 + du * col + dv * row) - origin, in that order.
+  // What centre_ray computes from: the eye, the top-left pixel's centre and one pixel right and down.
   struct Pinhole {
     Vec3f origin, pixel00, du, dv;
   };

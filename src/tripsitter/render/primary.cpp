@@ -27,10 +27,6 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // float roundings (~1e-7); 1e-4 of the distance is far beyond that and costs nothing measurable.
 constexpr float kPlaneMargin = 1e-4f;
 
-Vec3f dir_of(const ThinLensCamera::Pinhole& p, int col, int row) {
-  return p.pixel00 + p.du * static_cast<float>(col) + p.dv * static_cast<float>(row) - p.origin;
-}
-
 float l1(const Vec3f& v) { return std::abs(v.x) + std::abs(v.y) + std::abs(v.z); }
 
 // A plane through the eye: points x with dot(normal, x - eye) >= 0 are inside.
@@ -50,14 +46,17 @@ Plane plane(const Vec3f& a, const Vec3f& b) {
 
 class Tile {
  public:
-  Tile(const PathScene& scene, const ThinLensCamera::Pinhole& cam, int col0, int row0, int width, int height)
-      : scene_(scene), eye_(cam.origin), col0_(col0), row0_(row0) {
+  Tile(const PathScene& scene, const ThinLensCamera& camera, int col0, int row0, int width, int height)
+      : scene_(scene), eye_(camera.pinhole().origin), col0_(col0), row0_(row0) {
+    // The rays are the camera's centre rays themselves, so a lane computes on exactly what the scalar kernel gets.
+    const auto dir_of = [&camera](int col, int row) { return camera.centre_ray(col, row).dir; };
+    const ThinLensCamera::Pinhole cam = camera.pinhole();
     // Pixels beyond the image repeat the last column or row: their lanes do real work but are never written.
     const auto col_at = [&](int k) { return std::min(col0 + k, width - 1); };
     const auto row_at = [&](int k) { return std::min(row0 + k, height - 1); };
     for (int r = 0; r < kTile; ++r) {
       for (int c = 0; c < kTile; ++c) {
-        const Vec3f d = dir_of(cam, col_at(c), row_at(r));
+        const Vec3f d = dir_of(col_at(c), row_at(r));
         dx_[r][c] = d.x;
         dy_[r][c] = d.y;
         dz_[r][c] = d.z;
@@ -72,16 +71,16 @@ class Tile {
     // plane of each row's rays, widened by half a pixel each way; a sphere that no row plane meets within its
     // radius is missed by every ray of the tile.
     const Vec3f half_u = cam.du * 0.5f, half_v = cam.dv * 0.5f;
-    const Vec3f tl = dir_of(cam, col_at(0), row_at(0)) - half_u - half_v;
-    const Vec3f tr = dir_of(cam, col_at(kTile - 1), row_at(0)) + half_u - half_v;
-    const Vec3f bl = dir_of(cam, col_at(0), row_at(kTile - 1)) - half_u + half_v;
-    const Vec3f br = dir_of(cam, col_at(kTile - 1), row_at(kTile - 1)) + half_u + half_v;
+    const Vec3f tl = dir_of(col_at(0), row_at(0)) - half_u - half_v;
+    const Vec3f tr = dir_of(col_at(kTile - 1), row_at(0)) + half_u - half_v;
+    const Vec3f bl = dir_of(col_at(0), row_at(kTile - 1)) - half_u + half_v;
+    const Vec3f br = dir_of(col_at(kTile - 1), row_at(kTile - 1)) + half_u + half_v;
     sides_[0] = plane(bl, tl);  // left
     sides_[1] = plane(tr, br);  // right
     sides_[2] = plane(tl, tr);  // top
     sides_[3] = plane(br, bl);  // bottom
     for (int r = 0; r < kTile; ++r)
-      rows_[r] = plane(dir_of(cam, col_at(0), row_at(r)) - half_u, dir_of(cam, col_at(kTile - 1), row_at(r)) + half_u);
+      rows_[r] = plane(dir_of(col_at(0), row_at(r)) - half_u, dir_of(col_at(kTile - 1), row_at(r)) + half_u);
   }
 
   // Distance from the eye to the box, or +inf when the box lies outside the tile's frustum.
@@ -193,11 +192,10 @@ class Tile {
 
 core::ImageRgb8 render_primary(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings) {
   core::ImageRgb8 image(settings.width, settings.height);
-  const ThinLensCamera::Pinhole pinhole = camera.pinhole();
   const int tiles_x = (settings.width + kTile - 1) / kTile;
   core::parallel_for(0, (settings.height + kTile - 1) / kTile, settings.threads, [&](int tile_row) {
     for (int tx = 0; tx < tiles_x; ++tx) {
-      Tile tile(scene, pinhole, tx * kTile, tile_row * kTile, settings.width, settings.height);
+      Tile tile(scene, camera, tx * kTile, tile_row * kTile, settings.width, settings.height);
       scene.bvh().traverse([&](const float lo[3], const float hi[3]) { return tile.reach(lo, hi); },
                            [&] { return tile.limit(); },
                            [&](const Bvh::Sphere* s, const std::uint32_t* original, std::uint32_t n) { tile.leaf(s, original, n); });
