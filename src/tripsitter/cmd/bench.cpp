@@ -248,12 +248,13 @@ int run_suite(const BenchOptions& o) {
 }
 
 int run_scene(const BenchOptions& o) {
-  Report r(o);
+  // Loaded before anything is printed, so that a bad scene file gives its error alone.
   auto start = Clock::now();
   const scene::Scene sc = load_scene(o.scene);
-  r.note("scene", {{"name", o.scene}, {"spheres", sc.spheres.size()}, {"mode", o.mode}, {"load_seconds", seconds_since(start)}});
-  if (!o.json)
-    std::printf("scene %s: %zu spheres, loaded in %.3f s\n", o.scene.c_str(), sc.spheres.size(), seconds_since(start));
+  const double load = seconds_since(start);
+  Report r(o);
+  r.note("scene", {{"name", o.scene}, {"spheres", sc.spheres.size()}, {"mode", o.mode}, {"load_seconds", load}});
+  if (!o.json) std::printf("scene %s: %zu spheres, loaded in %.3f s\n", o.scene.c_str(), sc.spheres.size(), load);
   if (o.mode == "hw") {
     bench_hw(o, r, "hw_fps", sc);
   } else {

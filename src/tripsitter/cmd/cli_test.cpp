@@ -226,7 +226,10 @@ TEST_F(Cli, BenchMeasuresOneSceneAsJson) {
     if (std::string(mode) != "hw") {
       EXPECT_TRUE(doc.contains("build_seconds")) << r.out;
     }
-  }
+  }  // A scene that does not load: its error alone, nothing on stdout.
+  const Result bad = run("bench --scene " + path("missing.json") + " --mode hw");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(bad.out, "");
 }
 
 // Bad flags of every subcommand: exit code 2, a message naming the flag, nothing written.
