@@ -1,9 +1,11 @@
-// tripsitter bench: the fixed benchmark suite (hw_fps_N, primary_mrays_N, path_msamples_field, path_fps_field),
+// tripsitter bench: the fixed benchmark suite (hw_fps_N, primary_mrays_N, path_msamples_field,
+// path_msamples_field_brute_force, path_fps_field),
 // or one scene file in one mode. Every figure is the median of several timed runs, on one thread and on all.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -20,7 +22,7 @@
 #include <tripsitter/render/primary.h>
 #include <tripsitter/scene/builtin.h>
 #if defined(TRIPSITTER_HAVE_EMBREE)
-#include <tripsitter/render/embree_primary.h>
+#include <tripsitter/render/embree.h>
 #endif
 
 #include "commands.h"
@@ -187,9 +189,9 @@ void bench_primary(const BenchOptions& o, Report& r, const std::string& figure, 
     std::optional<std::pair<double, std::string>> best;
 #if defined(TRIPSITTER_HAVE_EMBREE)
     if (o.embree) {
-      const render::EmbreePrimary embree(scene, t);
+      const render::EmbreeScene embree(scene, t);
       for (auto packet : {render::EmbreePacket::k1, render::EmbreePacket::k8, render::EmbreePacket::k16}) {
-        const double theirs = median_rate(o, [&] { embree.render(camera, s, packet); return mrays; });
+        const double theirs = median_rate(o, [&] { embree.render_primary(camera, s, packet); return mrays; });
         if (!best || theirs > best->first) best = {theirs, render::to_string(packet)};
       }
     }
@@ -198,22 +200,48 @@ void bench_primary(const BenchOptions& o, Report& r, const std::string& figure, 
   }
 }
 
-// Path tracing at the scene's size and depth, one sample per pixel per pass.
+// Path tracing at the scene's size and depth, one sample per pixel per pass: the passes take seeds 1, 2, 3, ...
+// Where Embree is built in, the same path tracer (same paths, same shading) runs with Embree finding the hits.
+double path_rate(const BenchOptions& o, const render::PathSettings& settings,
+                 const std::function<void(const render::PathSettings&)>& pass) {
+  std::uint64_t seed = 1;
+  return median_rate(o, [&] {
+    render::PathSettings s = settings;
+    s.seed = seed++;
+    pass(s);
+    return static_cast<double>(s.width) * s.height / 1e6;
+  });
+}
+
 void bench_path(const BenchOptions& o, Report& r, const std::string& figure, const render::PathScene& scene,
                 const scene::Scene& sc) {
   const render::ThinLensCamera camera(sc.camera, sc.render.width, sc.render.height);
-  std::uint64_t seed = 1;
   for (int t : thread_counts(o)) {
     const render::PathSettings s{.width = sc.render.width, .height = sc.render.height, .spp = 1,
                                  .max_depth = sc.render.max_depth, .seed = 1, .threads = t, .sky = {}};
-    const double msamples = static_cast<double>(s.width) * s.height / 1e6;
-    r.add(figure, t, median_rate(o, [&] {
-            render::PathSettings pass = s;
-            pass.seed = seed++;
-            render::render_path(scene, camera, pass);
-            return msamples;
-          }), "Msamples/s");
+    const double ours = path_rate(o, s, [&](const render::PathSettings& p) { render::render_path(scene, camera, p); });
+    std::optional<std::pair<double, std::string>> embree_rate;
+#if defined(TRIPSITTER_HAVE_EMBREE)
+    if (o.embree) {
+      const render::EmbreeScene embree(scene, t);
+      embree_rate = {path_rate(o, s, [&](const render::PathSettings& p) { render::render_path(scene, embree, camera, p); }),
+                     render::to_string(render::EmbreePacket::k1)};
+    }
+#endif
+    r.add(figure, t, ours, "Msamples/s", embree_rate);
   }
+}
+
+// The straightforward tracer: the same path tracer testing every sphere for every ray, on one thread. At 160x90,
+// since it is slow; samples per second do not depend on the size.
+void bench_path_brute_force(const BenchOptions& o, Report& r, const std::string& figure, const scene::Scene& sc) {
+  const render::PathScene scene(sc.spheres);
+  const render::BruteForceQuery brute_force(scene);
+  const render::PathSettings s{.width = 160, .height = 90, .spp = 1, .max_depth = sc.render.max_depth, .seed = 1,
+                               .threads = 1, .sky = {}};
+  const render::ThinLensCamera camera(sc.camera, s.width, s.height);
+  r.add(figure, 1, path_rate(o, s, [&](const render::PathSettings& p) { render::render_path(scene, brute_force, camera, p); }),
+        "Msamples/s");
 }
 
 // The window's path mode without the window: one more sample per pixel per frame, accumulated and encoded.
@@ -241,6 +269,7 @@ int run_suite(const BenchOptions& o) {
     scene::Scene sc = field;
     sc.render = {640, 360, 1, 50};
     bench_path(o, r, "path_msamples_field", render::PathScene(sc.spheres), sc);
+    bench_path_brute_force(o, r, "path_msamples_field_brute_force", sc);
   }
   bench_path_interactive(o, r, "path_fps_field", field);
   r.finish();
@@ -279,7 +308,9 @@ void add_bench_command(CLI::App& app, Action& run) {
       "Measures speed. Without --scene, the fixed suite: hw_fps_N (device model, host -> link -> device -> VGA, "
       "N = 1, 16, 64, 256 spheres), primary_mrays_N (one primary ray per pixel, normal shading, 640x480, N = 1, 16, "
       "488 (field), 10000, 1000000; compared with Embree where built in), path_msamples_field (path tracer, field, "
-      "640x360, depth 50) and path_fps_field (the window's path mode, 640x480, 1 sample per pixel per frame), each on "
+      "640x360, depth 50; compared with the same path tracer over Embree's hits where built in), "
+      "path_msamples_field_brute_force (the same path tracer testing every sphere for every ray, 1 thread only) and "
+      "path_fps_field (the window's path mode, 640x480, 1 sample per pixel per frame), each on "
       "1 thread and on all");
   cmd->add_option("--seconds", o->seconds, "Minimum time per run")->capture_default_str()->check(CLI::Range(0.0, 600.0));
   cmd->add_option("--runs", o->runs, "Runs per figure; the median is reported")->capture_default_str()->check(CLI::Range(1, 101));
@@ -290,7 +321,7 @@ void add_bench_command(CLI::App& app, Action& run) {
                   "from the frames");
   cmd->add_option("--mode", o->mode,
                   "With --scene: hw (device model, frames/s), normal (primary rays at 640x480, Mrays/s, with Embree) or "
-                  "path (path tracer at the scene's size and depth, Msamples/s)")
+                  "path (path tracer at the scene's size and depth, Msamples/s, with the path tracer over Embree)")
       ->capture_default_str();
   cmd->add_option("--threads", o->threads, "Only this many threads (default: 1 and all)")->check(CLI::Range(1, 1024));
   cmd->callback([o, cmd, &run] {

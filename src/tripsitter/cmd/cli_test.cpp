@@ -225,6 +225,8 @@ TEST_F(Cli, BenchMeasuresOneSceneAsJson) {
     EXPECT_FALSE(doc[figure].contains("threads_2")) << r.out;
     if (std::string(mode) != "hw") {
       EXPECT_TRUE(doc.contains("build_seconds")) << r.out;
+      // Where Embree is built in, primary rays and the path tracer are measured over it too.
+      EXPECT_EQ(doc[figure].contains("embree_threads_1"), !doc["machine"]["embree"].is_null()) << r.out;
     }
   }  // A scene that does not load: its error alone, nothing on stdout.
   const Result bad = run("bench --scene " + path("missing.json") + " --mode hw");

@@ -46,11 +46,16 @@ SurfacePoint PathScene::surface(const Ray& ray, const SphereHit& hit) const {
   return s;
 }
 
-Vec3f trace_path(const PathScene& scene, Ray ray, int max_depth, const Sky& sky, Rng& rng) {
+namespace {
+
+// The path tracer over any closest-hit query with Bvh::intersect's contract: the scene's own BVH, called directly,
+// or a HitQuery.
+template <class Query>
+Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int max_depth, const Sky& sky, Rng& rng) {
   Vec3f throughput{1, 1, 1};
   for (int depth = 0; depth < max_depth; ++depth) {
     SphereHit hit;
-    if (!scene.intersect(ray, kRayEpsilon, INFINITY, hit)) return hadamard(throughput, sky.radiance(ray.dir));
+    if (!query.intersect(ray, kRayEpsilon, INFINITY, hit)) return hadamard(throughput, sky.radiance(ray.dir));
     const SurfacePoint s = scene.surface(ray, hit);
     const Scatter sc = scatter(scene.material(hit.sphere), ray.dir, s, rng);
     if (!sc.scattered) return {0, 0, 0};
@@ -61,8 +66,10 @@ Vec3f trace_path(const PathScene& scene, Ray ray, int max_depth, const Sky& sky,
   return {0, 0, 0};
 }
 
-void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings, int first,
-                      int step, ImageRgbF& image, const std::function<void(std::uint64_t)>& on_samples) {
+template <class Query>
+void render_rows_over(const PathScene& scene, const Query& query, const ThinLensCamera& camera,
+                      const PathSettings& settings, int first, int step, ImageRgbF& image,
+                      const std::function<void(std::uint64_t)>& on_samples) {
   const int rows = first < settings.height ? (settings.height - first + step - 1) / step : 0;
   const float inv_spp = 1.0f / static_cast<float>(settings.spp);
   core::parallel_for(0, rows, settings.threads, [&](int k) {
@@ -73,19 +80,45 @@ void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, cons
       Rng rng = Rng::for_item(settings.seed, index);
       Vec3f sum{0, 0, 0};
       for (int s = 0; s < settings.spp; ++s)
-        sum += trace_path(scene, camera.ray(col, row, rng), settings.max_depth, settings.sky, rng);
+        sum += trace_path_over(scene, query, camera.ray(col, row, rng), settings.max_depth, settings.sky, rng);
       image.pixels[index] = sum * inv_spp;
     }
     if (on_samples) on_samples(static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp));
   });
 }
 
+ImageRgbF blank_image(const PathSettings& settings) {
+  return {settings.width, settings.height,
+          std::vector<Vec3f>(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height))};
+}
+
+}  // namespace
+
+Vec3f trace_path(const PathScene& scene, Ray ray, int max_depth, const Sky& sky, Rng& rng) {
+  return trace_path_over(scene, scene.bvh(), ray, max_depth, sky, rng);
+}
+
+void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings, int first,
+                      int step, ImageRgbF& image, const std::function<void(std::uint64_t)>& on_samples) {
+  render_rows_over(scene, scene.bvh(), camera, settings, first, step, image, on_samples);
+}
+
 ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
                       const std::function<void(std::uint64_t)>& on_samples) {
-  ImageRgbF image{settings.width, settings.height,
-                  std::vector<Vec3f>(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height))};
-  render_path_rows(scene, camera, settings, 0, 1, image, on_samples);
+  ImageRgbF image = blank_image(settings);
+  render_rows_over(scene, scene.bvh(), camera, settings, 0, 1, image, on_samples);
   return image;
+}
+
+ImageRgbF render_path(const PathScene& scene, const HitQuery& query, const ThinLensCamera& camera,
+                      const PathSettings& settings) {
+  ImageRgbF image = blank_image(settings);
+  render_rows_over(scene, query, camera, settings, 0, 1, image, {});
+  return image;
+}
+
+bool BruteForceQuery::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const {
+  return intersect_brute_force(scene_.centers(), scene_.radii(), ray, t_min, t_max, hit);
 }
 
 std::uint8_t srgb_encode(float linear) {

@@ -83,6 +83,28 @@ ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, cons
 void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings, int first,
                       int step, ImageRgbF& image, const std::function<void(std::uint64_t)>& on_samples = {});
 
+// A closest-hit query in place of the scene's BVH, with Bvh::intersect's contract, so that other tracers can be
+// measured on exactly the path tracer's work (`tripsitter bench` runs it over Embree and over brute force).
+class HitQuery {
+ public:
+  virtual ~HitQuery() = default;
+  virtual bool intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const = 0;
+};
+
+// Every sphere tested for every ray: the straightforward tracer.
+class BruteForceQuery final : public HitQuery {
+ public:
+  explicit BruteForceQuery(const PathScene& scene) : scene_(scene) {}
+  bool intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const override;
+
+ private:
+  const PathScene& scene_;
+};
+
+// render_path with `query` finding the hits (one virtual call per ray).
+ImageRgbF render_path(const PathScene& scene, const HitQuery& query, const ThinLensCamera& camera,
+                      const PathSettings& settings);
+
 // The IEC 61966-2-1 sRGB transfer function of a linear value clamped to [0, 1], to 8 bits.
 std::uint8_t srgb_encode(float linear);
 // Every channel through srgb_encode (by table: the same bytes, without pow), after multiplying by `scale`.

@@ -175,6 +175,22 @@ TEST(PathTracer, RowsSharedInAnyStepGiveTheWholeImagesValues) {
   EXPECT_EQ(one_share.pixels[40].x, whole.pixels[40].x);
 }
 
+// The BVH is an acceleration only: testing every sphere for every ray gives the same paths, hence the same image.
+TEST(PathTracer, BruteForceQueryTracesTheSameImage) {
+  scene::Scene field = *scene::builtin("field");
+  const PathScene scene(field.spheres);
+  const ThinLensCamera cam(field.camera, 48, 27);
+  const PathSettings s{.width = 48, .height = 27, .spp = 2, .max_depth = 50, .seed = 9, .threads = 2, .sky = {}};
+  const ImageRgbF ours = render_path(scene, cam, s);
+  const ImageRgbF brute = render_path(scene, BruteForceQuery(scene), cam, s);
+  ASSERT_EQ(brute.pixels.size(), ours.pixels.size());
+  for (std::size_t i = 0; i < ours.pixels.size(); ++i) {
+    ASSERT_EQ(brute.pixels[i].x, ours.pixels[i].x) << "pixel " << i;
+    ASSERT_EQ(brute.pixels[i].y, ours.pixels[i].y) << "pixel " << i;
+    ASSERT_EQ(brute.pixels[i].z, ours.pixels[i].z) << "pixel " << i;
+  }
+}
+
 TEST(PathTracer, ProgressCountsEverySample) {
   const std::vector<scene::Sphere> spheres{sphere({0, 0, 0}, 1, lambertian(0.5))};
   std::atomic<std::uint64_t> samples{0};

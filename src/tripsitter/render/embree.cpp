@@ -1,4 +1,4 @@
-#include <tripsitter/render/embree_primary.h>
+#include <tripsitter/render/embree.h>
 
 #include <embree3/rtcore.h>
 
@@ -10,7 +10,7 @@
 
 namespace tripsitter::render {
 
-struct EmbreePrimary::State {
+struct EmbreeScene::State {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   ~State() {
@@ -30,7 +30,7 @@ std::string to_string(EmbreePacket p) {
 
 std::string embree_version() { return RTC_VERSION_STRING; }
 
-EmbreePrimary::EmbreePrimary(const PathScene& scene, int threads) : scene_(scene), state_(std::make_unique<State>()) {
+EmbreeScene::EmbreeScene(const PathScene& scene, int threads) : scene_(scene), state_(std::make_unique<State>()) {
   const std::string config = "threads=" + std::to_string(core::thread_count(threads));
   state_->device = rtcNewDevice(config.c_str());
   if (!state_->device) throw std::runtime_error("Embree: cannot create a device");
@@ -53,7 +53,7 @@ EmbreePrimary::EmbreePrimary(const PathScene& scene, int threads) : scene_(scene
   if (rtcGetDeviceError(state_->device) != RTC_ERROR_NONE) throw std::runtime_error("Embree: the scene did not build");
 }
 
-EmbreePrimary::~EmbreePrimary() = default;
+EmbreeScene::~EmbreeScene() = default;
 
 namespace {
 
@@ -97,7 +97,8 @@ void trace_block(RTCScene scene, const PathScene& spheres, const ThinLensCamera&
 
 }  // namespace
 
-core::ImageRgb8 EmbreePrimary::render(const ThinLensCamera& camera, const PrimarySettings& s, EmbreePacket packet) const {
+core::ImageRgb8 EmbreeScene::render_primary(const ThinLensCamera& camera, const PrimarySettings& s,
+                                            EmbreePacket packet) const {
   core::ImageRgb8 image(s.width, s.height);
   RTCScene scene = state_->scene;
   if (packet == EmbreePacket::k1) {
@@ -133,6 +134,19 @@ core::ImageRgb8 EmbreePrimary::render(const ThinLensCamera& camera, const Primar
     }
   });
   return image;
+}
+
+bool EmbreeScene::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray = {ray.origin.x, ray.origin.y, ray.origin.z, t_min, ray.dir.x, ray.dir.y, ray.dir.z, 0.0f, t_max,
+            0xffffffffu, 0, 0};
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(state_->scene, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit = {rh.ray.tfar, rh.hit.primID};
+  return true;
 }
 
 }  // namespace tripsitter::render
