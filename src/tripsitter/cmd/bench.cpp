@@ -90,6 +90,7 @@ json machine() {
 #else
   m["compiler"] = "g++ " + std::string(__VERSION__);
 #endif
+  m["render_simd"] = render::simd_instruction_set();
 #if defined(NDEBUG)
   m["assertions"] = false;
 #else
@@ -117,8 +118,9 @@ class Report {
     if (m.contains("avx2"))
       std::printf(" (AVX2 %s, FMA %s, AVX-512 %s)", m["avx2"].get<bool>() ? "yes" : "no", m["fma"].get<bool>() ? "yes" : "no",
                   m["avx512f"].get<bool>() ? "yes" : "no");
-    std::printf("\ncompiler: %s%s; Embree: %s\n", m["compiler"].get<std::string>().c_str(),
+    std::printf("\ncompiler: %s%s; render library: %s; Embree: %s\n", m["compiler"].get<std::string>().c_str(),
                 m["assertions"].get<bool>() ? " (assertions on: not an optimised build)" : "",
+                m["render_simd"].get<std::string>().c_str(),
                 m["embree"].is_null() ? "not built in" : m["embree"].get<std::string>().c_str());
     std::printf("each figure: median of %d runs of at least %.2f s\n", o.runs, o.seconds);
   }

@@ -7,9 +7,10 @@
 // are hits decided by rounding alone: two spheres whose t differ by no more than float rounding (either may be
 // returned), or a ray grazing a sphere at one of its box's faces (the hit may be dropped).
 //
-// Leaves are tested four spheres at a time with SSE. Each lane performs the scalar kernel's operations in its order
-// (the render library is compiled with -ffp-contract=off, so no multiply-add is ever fused), so lanes and scalar
-// calls give the same t.
+// Nodes test their eight children's boxes, and leaves their up to eight spheres, in one SIMD step (simd8.h: AVX
+// where compiled for it, else two SSE halves). Each lane performs the scalar kernel's operations in its order (the
+// render library is compiled with -ffp-contract=off, so no multiply-add is ever fused), so lanes and scalar calls
+// give the same t.
 #include <tripsitter/render/bvh.h>
 
 #include <algorithm>
@@ -17,11 +18,10 @@
 #include <cmath>
 #include <limits>
 
-#include <xmmintrin.h>
-#include <emmintrin.h>
-
 namespace tripsitter::render {
 namespace {
+
+#include <tripsitter/render/simd8.h>
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
@@ -76,12 +76,15 @@ bool sphere_root(const KernelRay& ray, const Vec3f& center, float radius, float 
 // Build: binned SAH (Wald, "On fast construction of SAH-based bounding volume hierarchies", 2007) over the centroids,
 // binning all three axes in one pass, depth-first so that a parent and its first subtree sit together in memory.
 
-constexpr std::uint32_t kMaxLeafSize = 4;
+constexpr std::uint32_t kMaxLeafSize = Bvh::kWidth;
+constexpr int kWidth = Bvh::kWidth;
 constexpr int kBins = 16;
-// SAH costs relative to one sphere test. A node visit (two boxes, often a cache miss) costs about two sphere tests
-// on the scenes we measured (RTOW cover, a million spheres); 1 gives mostly 1-sphere leaves and ~40% more nodes.
-constexpr float kTraversalCost = 2.0f;
-constexpr float kSphereCost = 1.0f;
+// SAH costs relative to one leaf test, which takes up to kWidth spheres in one SIMD step: n spheres cost
+// ceil(n / kWidth) leaf tests wherever they end up. A node visit is one SIMD step too. With these costs a split
+// never beats a leaf of up to kWidth spheres, so leaves are as full as the tree allows: on `field`, leaves of at
+// most 2, 3, 4 or 6 spheres all traced slower than full ones (bench --scene field --mode path, one thread).
+constexpr float kTraversalCost = 1.0f;
+inline float leaf_tests(std::uint32_t n) { return static_cast<float>((n + kWidth - 1) / kWidth); }
 // Below this depth splits follow the SAH; deeper, at the median, which halves the count. Depth therefore stays
 // under kMaxSahDepth + log2(2^32 / kMaxLeafSize) <= 62 < kStackSize, whatever the distribution.
 constexpr std::uint32_t kMaxSahDepth = 32;
@@ -129,7 +132,7 @@ inline int bin_of(float x, float lo, float scale) {
 }
 
 struct Split {
-  float cost = kInf;     // SAH cost relative to kSphereCost per sphere of the parent; kInf: median split
+  float cost = kInf;     // SAH cost in leaf tests; kInf: median split
   int axis = 0;
   int bin = 0;           // spheres in bins < bin go left
   float lo = 0, scale = 0;
@@ -169,7 +172,7 @@ class Builder {
       tasks_.pop_back();
       const std::uint32_t count = task.end - task.begin;
       const Split split = count > 1 ? find_split(task.begin, task.end, task.box, task.depth) : Split{};
-      const bool sah_prefers_leaf = split.cost >= kSphereCost * static_cast<float>(count);
+      const bool sah_prefers_leaf = split.cost >= leaf_tests(count);
       if (count <= kMaxLeafSize && sah_prefers_leaf) {
         set_child(task.node, task.slot, task.box, task.begin, count);
         continue;
@@ -248,7 +251,7 @@ class Builder {
         acc.grow(bins[a][k].box);
         acc_count += bins[a][k].count;
         right_box[k] = acc;
-        right_cost[k] = acc_count ? acc.half_area() * static_cast<float>(acc_count) : 0.0f;
+        right_cost[k] = acc_count ? acc.half_area() * leaf_tests(acc_count) : 0.0f;
       }
       acc = Box{};
       acc_count = 0;
@@ -258,8 +261,7 @@ class Builder {
         acc_count += bins[a][k - 1].count;
         if (acc_count == 0 || acc_count == total) continue;  // one side empty: not a split
         const float cost =
-            kTraversalCost + kSphereCost * (acc.half_area() * static_cast<float>(acc_count) + right_cost[k]) *
-                                 inv_parent_area;
+            kTraversalCost + (acc.half_area() * leaf_tests(acc_count) + right_cost[k]) * inv_parent_area;
         if (cost < best.cost) {
           best = {cost, a, k, centroids.lo[a], scale[a], acc, right_box[k]};
         }
@@ -295,18 +297,18 @@ class Builder {
   std::vector<Task> tasks_;
 };
 
-// Collapses the binary tree into 4-wide nodes: a node takes its binary node's two children and, while it has
+// Collapses the binary tree into kWidth-wide nodes: a node takes its binary node's two children and, while it has
 // room, replaces the inner child of largest surface area by that child's two children.
 struct Slot {
   Box box;
   std::uint32_t first, count;  // as in BinaryNode
 };
 
-int expand(const std::vector<BinaryNode>& binary, std::uint32_t node, Slot slots[4]) {
+int expand(const std::vector<BinaryNode>& binary, std::uint32_t node, Slot slots[kWidth]) {
   int used = 0;
   const BinaryNode& b = binary[node];
   for (int k = 0; k < 2; ++k) slots[used++] = {b.box[k], b.first[k], b.count[k]};
-  while (used < 4) {
+  while (used < kWidth) {
     int widest = -1;
     for (int k = 0; k < used; ++k) {
       if (slots[k].count == BinaryNode::kInner && (widest < 0 || slots[k].box.half_area() > slots[widest].box.half_area()))
@@ -323,13 +325,13 @@ int expand(const std::vector<BinaryNode>& binary, std::uint32_t node, Slot slots
 template <class Node>
 void collapse(const std::vector<BinaryNode>& binary, std::vector<Node>& nodes) {
   // First count the nodes, so that the array is allocated once at its final size (a million spheres: the binary
-  // tree and the 4-wide one are both alive here, at the peak of the build's memory).
+  // tree and the wide one are both alive here, at the peak of the build's memory).
   std::size_t count = 1;
   std::vector<std::uint32_t> pending{0};
   while (!pending.empty()) {
     const std::uint32_t b = pending.back();
     pending.pop_back();
-    Slot slots[4];
+    Slot slots[kWidth];
     const int used = expand(binary, b, slots);
     for (int k = 0; k < used; ++k) {
       if (slots[k].count == BinaryNode::kInner) {
@@ -347,9 +349,9 @@ void collapse(const std::vector<BinaryNode>& binary, std::vector<Node>& nodes) {
   while (!tasks.empty()) {
     const Task task = tasks.back();
     tasks.pop_back();
-    Slot slots[4];
+    Slot slots[kWidth];
     const int used = expand(binary, task.binary, slots);
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < kWidth; ++k) {
       const Slot slot = k < used ? slots[k] : Slot{Box{}, 0, 0};
       std::uint32_t first = slot.first;
       if (slot.count == BinaryNode::kInner) {
@@ -376,16 +378,16 @@ constexpr float kExitPad = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p
 // Per-ray constants of the slab test. For each axis, the rows of Node::bounds holding the planes the ray meets
 // first and last: lo then hi when moving towards +, hi then lo when moving towards -.
 struct SlabRay {
-  __m128 origin[3];
-  __m128 inv_dir[3];  // 1/0 = +-inf: see enter_children
+  F8 origin[3];
+  F8 inv_dir[3];  // 1/0 = +-inf: see enter_children
   int near[3], far[3];
 };
 
 SlabRay make_slab_ray(const Ray& ray) {
   SlabRay r;
   for (int a = 0; a < 3; ++a) {
-    r.origin[a] = _mm_set1_ps(ray.origin[a]);
-    r.inv_dir[a] = _mm_set1_ps(1.0f / ray.dir[a]);
+    r.origin[a] = F8::set1(ray.origin[a]);
+    r.inv_dir[a] = F8::set1(1.0f / ray.dir[a]);
     const int negative = std::signbit(ray.dir[a]) ? 1 : 0;
     r.near[a] = 2 * a + negative;
     r.far[a] = 2 * a + 1 - negative;
@@ -393,83 +395,107 @@ SlabRay make_slab_ray(const Ray& ray) {
   return r;
 }
 
-// Which of a node's four child boxes the ray enters within [t_min, t_max] (bit k for child k), and where.
+// Which of a node's children boxes the ray enters within [t_min, t_max] (bit k for child k), and where.
 // A zero direction component makes its slab distances +-inf (outside or inside that slab), or NaN (0 * inf) when
 // the origin lies on a plane of the slab; max/min below ignore NaN, treating the ray as inside: conservative.
 // Empty slots (lo = +inf, hi = -inf) are never entered.
-inline unsigned enter_children(const float (*bounds)[4], const SlabRay& r, float t_min, float t_max, float t_enter[4]) {
-  // _mm_max_ps(x, acc) and _mm_min_ps(x, acc) return acc when x is NaN.
-  __m128 t0 = _mm_set1_ps(t_min), t1 = _mm_set1_ps(t_max);
-  const __m128 pad = _mm_set1_ps(kExitPad);
+inline unsigned enter_children(const float (*bounds)[kWidth], const SlabRay& r, F8 t_min, float t_max,
+                               float t_enter[kWidth]) {
+  // max(x, acc) and min(x, acc) return acc when x is NaN.
+  F8 t0 = t_min, t1 = F8::set1(t_max);
+  const F8 pad = F8::set1(kExitPad);
   for (int a = 0; a < 3; ++a) {
-    const __m128 near = _mm_load_ps(bounds[r.near[a]]);
-    const __m128 far = _mm_load_ps(bounds[r.far[a]]);
-    t0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(near, r.origin[a]), r.inv_dir[a]), t0);
-    t1 = _mm_min_ps(_mm_mul_ps(_mm_mul_ps(_mm_sub_ps(far, r.origin[a]), r.inv_dir[a]), pad), t1);
+    const F8 near = F8::load(bounds[r.near[a]]);
+    const F8 far = F8::load(bounds[r.far[a]]);
+    t0 = max((near - r.origin[a]) * r.inv_dir[a], t0);
+    t1 = min((far - r.origin[a]) * r.inv_dir[a] * pad, t1);
   }
-  _mm_storeu_ps(t_enter, t0);
-  return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+  t0.store(t_enter);
+  return static_cast<unsigned>((t0 <= t1).bits());
 }
 
-// Spheres after the last one, so that four can be loaded from any leaf's first sphere.
-constexpr std::size_t kLeafPadding = 3;
-
-// The kernel ray's terms broadcast to four lanes, once per ray rather than once per leaf.
-struct KernelRay4 {
-  __m128 ox, oy, oz, dx, dy, dz, dir_len2, inv_dir_len2, t_min;
+// The kernel ray's terms broadcast to every lane, once per ray rather than once per leaf.
+struct KernelRay8 {
+  F8 ox, oy, oz, dx, dy, dz, dir_len2, inv_dir_len2, t_min;
 };
 
-KernelRay4 broadcast(const KernelRay& r, float t_min) {
-  return {_mm_set1_ps(r.origin.x), _mm_set1_ps(r.origin.y), _mm_set1_ps(r.origin.z),
-          _mm_set1_ps(r.dir.x),    _mm_set1_ps(r.dir.y),    _mm_set1_ps(r.dir.z),
-          _mm_set1_ps(r.dir_len2), _mm_set1_ps(r.inv_dir_len2), _mm_set1_ps(t_min)};
+KernelRay8 broadcast(const KernelRay& r, float t_min) {
+  return {F8::set1(r.origin.x), F8::set1(r.origin.y), F8::set1(r.origin.z),
+          F8::set1(r.dir.x),    F8::set1(r.dir.y),    F8::set1(r.dir.z),
+          F8::set1(r.dir_len2), F8::set1(r.inv_dir_len2), F8::set1(t_min)};
 }
 
-// sphere_root on up to four spheres at once (lanes past `count` hold the spheres that follow): bit k of the result is
-// set when sphere k offers a root beyond t_min, which is then t[k]. The same operations as sphere_root, lane by lane.
-inline unsigned sphere_roots(const KernelRay4& ray, const Bvh::Sphere* spheres, std::uint32_t count, float t[4]) {
-  __m128 cx, cy, cz, radius;
-  {
-    static_assert(sizeof(Bvh::Sphere) == 4 * sizeof(float));
-    __m128 r0 = _mm_loadu_ps(&spheres[0].center.x), r1 = _mm_loadu_ps(&spheres[1].center.x);
-    __m128 r2 = _mm_loadu_ps(&spheres[2].center.x), r3 = _mm_loadu_ps(&spheres[3].center.x);
-    _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
-    cx = r0, cy = r1, cz = r2, radius = r3;
+// sphere_root on a leaf's spheres at once: bit k of the result is set when sphere k offers a root beyond t_min,
+// which is then t[k]. The same operations as sphere_root, lane by lane; unused lanes (NaN centres) never hit.
+inline unsigned sphere_roots(const KernelRay8& ray, const Bvh::Leaf& leaf, float t[kWidth]) {
+  const F8 ocx = ray.ox - F8::load(leaf.cx);
+  const F8 ocy = ray.oy - F8::load(leaf.cy);
+  const F8 ocz = ray.oz - F8::load(leaf.cz);
+  const F8 radius = F8::load(leaf.radius);
+  const F8 dx = ray.dx, dy = ray.dy, dz = ray.dz;
+  const F8 b = ocx * dx + ocy * dy + ocz * dz;
+  const F8 scale = b * ray.inv_dir_len2;
+  const F8 fx = ocx - dx * scale, fy = ocy - dy * scale, fz = ocz - dz * scale;
+  const F8 r2 = radius * radius;
+  const F8 disc = ray.dir_len2 * (r2 - (fx * fx + fy * fy + fz * fz));
+  const F8 zero = F8::set1(0.0f);
+  const F8 real = disc >= zero;  // false for NaN, as !(disc >= 0) in sphere_root
+  if (real.bits() == 0) return 0;
+  const F8 q = (b + copysign(sqrt(disc), b)) ^ F8::set1(-0.0f);
+  const F8 c = (ocx * ocx + ocy * ocy + ocz * ocz) - r2;
+  const F8 q_near = q * ray.inv_dir_len2;
+  const F8 q_far = (q != zero) & (c / q);
+  const F8 swap = q_far < q_near;
+  const F8 t_near = select(swap, q_far, q_near), t_far = select(swap, q_near, q_far);
+  const F8 chosen = select(t_near > ray.t_min, t_near, t_far);
+  chosen.store(t);
+  return static_cast<unsigned>((real & (chosen > ray.t_min)).bits());
+}
+
+// Leaves in a structure of arrays, one per leaf child of the binary tree, replacing that child's `first` (a range
+// of refs) by the leaf's index.
+std::vector<Bvh::Leaf> make_leaves(std::vector<BinaryNode>& binary, const std::vector<PrimRef>& refs,
+                                   std::span<const Vec3f> centers, std::span<const float> radii) {
+  std::size_t count = 0;
+  for (const BinaryNode& b : binary) {
+    for (int k = 0; k < 2; ++k) count += b.count[k] != BinaryNode::kInner && b.count[k] > 0 ? 1 : 0;
   }
-  const __m128 ocx = _mm_sub_ps(ray.ox, cx);
-  const __m128 ocy = _mm_sub_ps(ray.oy, cy);
-  const __m128 ocz = _mm_sub_ps(ray.oz, cz);
-  const __m128 dx = ray.dx, dy = ray.dy, dz = ray.dz;
-  const __m128 b = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ocx, dx), _mm_mul_ps(ocy, dy)), _mm_mul_ps(ocz, dz));
-  const __m128 scale = _mm_mul_ps(b, ray.inv_dir_len2);
-  const __m128 fx = _mm_sub_ps(ocx, _mm_mul_ps(dx, scale));
-  const __m128 fy = _mm_sub_ps(ocy, _mm_mul_ps(dy, scale));
-  const __m128 fz = _mm_sub_ps(ocz, _mm_mul_ps(dz, scale));
-  const __m128 r2 = _mm_mul_ps(radius, radius);
-  const __m128 ff = _mm_add_ps(_mm_add_ps(_mm_mul_ps(fx, fx), _mm_mul_ps(fy, fy)), _mm_mul_ps(fz, fz));
-  const __m128 disc = _mm_mul_ps(ray.dir_len2, _mm_sub_ps(r2, ff));
-  const __m128 zero = _mm_setzero_ps();
-  const __m128 real = _mm_cmpge_ps(disc, zero);  // false for NaN, as !(disc >= 0) in sphere_root
-  if (_mm_movemask_ps(real) == 0) return 0;
-  const __m128 sign = _mm_set1_ps(-0.0f);
-  const __m128 root = _mm_or_ps(_mm_andnot_ps(sign, _mm_sqrt_ps(disc)), _mm_and_ps(b, sign));  // copysign
-  const __m128 q = _mm_xor_ps(_mm_add_ps(b, root), sign);
-  const __m128 c = _mm_sub_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(ocx, ocx), _mm_mul_ps(ocy, ocy)), _mm_mul_ps(ocz, ocz)), r2);
-  const __m128 q_near = _mm_mul_ps(q, ray.inv_dir_len2);
-  const __m128 q_nonzero = _mm_cmpneq_ps(q, zero);
-  const __m128 q_far = _mm_and_ps(q_nonzero, _mm_div_ps(c, q));
-  const __m128 swap = _mm_cmplt_ps(q_far, q_near);
-  const __m128 t_near = _mm_or_ps(_mm_and_ps(swap, q_far), _mm_andnot_ps(swap, q_near));
-  const __m128 t_far = _mm_or_ps(_mm_and_ps(swap, q_near), _mm_andnot_ps(swap, q_far));
-  const __m128 vt_min = ray.t_min;
-  const __m128 near_ok = _mm_cmpgt_ps(t_near, vt_min);
-  const __m128 chosen = _mm_or_ps(_mm_and_ps(near_ok, t_near), _mm_andnot_ps(near_ok, t_far));
-  _mm_storeu_ps(t, chosen);
-  const unsigned mask = static_cast<unsigned>(_mm_movemask_ps(_mm_and_ps(real, _mm_cmpgt_ps(chosen, vt_min))));
-  return mask & ((1u << count) - 1u);
+  std::vector<Bvh::Leaf> leaves;
+  leaves.reserve(count);
+  for (BinaryNode& b : binary) {
+    for (int k = 0; k < 2; ++k) {
+      if (b.count[k] == BinaryNode::kInner || b.count[k] == 0) continue;
+      Bvh::Leaf& leaf = leaves.emplace_back();
+      for (int lane = 0; lane < kWidth; ++lane) {
+        if (static_cast<std::uint32_t>(lane) < b.count[k]) {
+          const std::uint32_t original = refs[b.first[k] + static_cast<std::uint32_t>(lane)].index;
+          const Vec3f& c = centers[original];
+          leaf.cx[lane] = c.x;
+          leaf.cy[lane] = c.y;
+          leaf.cz[lane] = c.z;
+          leaf.radius[lane] = radii[original];
+          leaf.original[lane] = original;
+        } else {
+          leaf.cx[lane] = leaf.cy[lane] = leaf.cz[lane] = std::numeric_limits<float>::quiet_NaN();
+          leaf.radius[lane] = 0.0f;
+          leaf.original[lane] = 0;
+        }
+      }
+      b.first[k] = static_cast<std::uint32_t>(leaves.size() - 1);
+    }
+  }
+  return leaves;
 }
 
 }  // namespace
+
+const char* simd_instruction_set() {
+#if defined(__AVX2__)
+  return "AVX2 (x86-64-v3)";
+#else
+  return "SSE2 (x86-64)";
+#endif
+}
 
 bool intersect_sphere(const Ray& ray, const Vec3f& center, float radius, float t_min, float t_max, float& t) {
   float root;
@@ -500,6 +526,7 @@ Bvh Bvh::build(std::span<const Vec3f> centers, std::span<const float> radii) {
   Bvh bvh;
   const std::size_t n = centers.size();
   if (n == 0) return bvh;
+  bvh.spheres_ = n;
   std::vector<PrimRef> refs(n);
   for (std::size_t i = 0; i < n; ++i) {
     refs[i] = {centers[i], padded_radius(centers[i], radii[i]), static_cast<std::uint32_t>(i)};
@@ -507,32 +534,26 @@ Bvh Bvh::build(std::span<const Vec3f> centers, std::span<const float> radii) {
   std::vector<BinaryNode> binary;
   Builder(refs, binary).run();
   // Each temporary array is freed as soon as it has served: a million spheres must build within 200 MB.
-  bvh.index_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) bvh.index_[i] = refs[i].index;
+  bvh.leaves_ = make_leaves(binary, refs, centers, radii);
   std::vector<PrimRef>().swap(refs);
-  // Three copies of the last sphere after the others: a leaf's four lanes are loaded from its first sphere on,
-  // whatever its count.
-  bvh.spheres_.resize(n + kLeafPadding);
-  for (std::size_t i = 0; i < n; ++i) bvh.spheres_[i] = {centers[bvh.index_[i]], radii[bvh.index_[i]]};
-  for (std::size_t i = n; i < n + kLeafPadding; ++i) bvh.spheres_[i] = bvh.spheres_[n - 1];
   collapse(binary, bvh.nodes_);
   return bvh;
 }
 
 bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const {
   if (nodes_.empty()) return false;
-  const KernelRay4 kray = broadcast(make_kernel_ray(ray), t_min);
+  const KernelRay8 kray = broadcast(make_kernel_ray(ray), t_min);
   const SlabRay sray = make_slab_ray(ray);
 
   bool found = false;
   float best_t = t_max;
   std::uint32_t best = 0;  // original index of the best sphere
-  const auto visit_leaf = [&](std::uint32_t first, std::uint32_t count) {
-    float t[4];
-    unsigned hits = sphere_roots(kray, &spheres_[first], count, t);
-    for (; hits != 0; hits &= hits - 1) {
+  const auto visit_leaf = [&](std::uint32_t leaf_index) {
+    const Leaf& leaf = leaves_[leaf_index];
+    alignas(32) float t[kWidth];
+    for (unsigned hits = sphere_roots(kray, leaf, t); hits != 0; hits &= hits - 1) {
       const int k = __builtin_ctz(hits);
-      const std::uint32_t original = index_[first + static_cast<std::uint32_t>(k)];
+      const std::uint32_t original = leaf.original[k];
       // Equal t goes to the lower original index, as in brute force.
       if (t[k] < best_t || (found && t[k] == best_t && original < best)) {
         best_t = t[k];
@@ -547,20 +568,20 @@ bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) co
     std::uint32_t node;
     float t_enter;
   };
-  Pending stack[3 * kStackSize + 1];
+  Pending stack[(kWidth - 1) * kStackSize + 1];
   int size = 0;
   std::uint32_t node = 0;
   for (;;) {
     const Node& n = nodes_[node];
-    alignas(16) float t_enter[4];
+    alignas(32) float t_enter[kWidth];
     // Inclusive of best_t so that exact ties are still seen.
-    unsigned enters = enter_children(n.bounds, sray, t_min, best_t, t_enter);
-    int order[4];  // the children that are nodes, farthest first
+    unsigned enters = enter_children(n.bounds, sray, kray.t_min, best_t, t_enter);
+    int order[kWidth];  // the children that are nodes, farthest first
     int nodes = 0;
     for (; enters != 0; enters &= enters - 1) {
       const int k = __builtin_ctz(enters);
       if (n.count[k] != Node::kInner) {
-        if (t_enter[k] <= best_t) visit_leaf(n.first[k], n.count[k]);
+        if (t_enter[k] <= best_t) visit_leaf(n.first[k]);
         continue;
       }
 #if defined(__GNUC__)
@@ -573,7 +594,7 @@ bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) co
     }
     // The nearest node next, the others later; a leaf just tested may have moved best_t closer than them all.
     for (int j = 0; j + 1 < nodes; ++j) {
-      assert(size < 3 * kStackSize + 1);
+      assert(size < (kWidth - 1) * kStackSize + 1);
       stack[size++] = {n.first[order[j]], t_enter[order[j]]};
     }
     if (nodes > 0 && t_enter[order[nodes - 1]] <= best_t) {
@@ -589,11 +610,10 @@ bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) co
   return found;
 }
 
-std::size_t Bvh::sphere_count() const { return index_.size(); }
+std::size_t Bvh::sphere_count() const { return spheres_; }
 std::size_t Bvh::node_count() const { return nodes_.size(); }
 std::size_t Bvh::memory_bytes() const {
-  return sizeof(*this) + nodes_.capacity() * sizeof(Node) + spheres_.capacity() * sizeof(Sphere) +
-         index_.capacity() * sizeof(std::uint32_t);
+  return sizeof(*this) + nodes_.capacity() * sizeof(Node) + leaves_.capacity() * sizeof(Leaf);
 }
 
 }  // namespace tripsitter::render

@@ -24,6 +24,10 @@ bool intersect_sphere(const Ray& ray, const Vec3f& center, float radius, float t
 bool intersect_brute_force(std::span<const Vec3f> centers, std::span<const float> radii, const Ray& ray,
                            float t_min, float t_max, SphereHit& hit);
 
+// What the render library's SIMD code was compiled for: "AVX2 (x86-64-v3)" or "SSE2 (x86-64)" (CMake option
+// TRIPSITTER_X86_64_V3).
+const char* simd_instruction_set();
+
 class Bvh {
  public:
   // Builds over spheres (REQUIRES centers.size() == radii.size(), radii > 0). Copies what it needs.
@@ -36,60 +40,66 @@ class Bvh {
   std::size_t node_count() const;
   std::size_t memory_bytes() const;  // of everything the structure holds
 
-  struct Sphere {
-    Vec3f center;
-    float radius;
+  // Children per node and spheres per leaf: one AVX register of floats (two SSE registers without AVX).
+  static constexpr int kWidth = 8;
+
+  // The spheres of one leaf, a structure of arrays so that one SIMD load takes a coordinate of all of them. Lanes
+  // past the leaf's count have NaN centres and radius 0: no ray hits them.
+  struct alignas(32) Leaf {
+    float cx[kWidth], cy[kWidth], cz[kWidth], radius[kWidth];
+    std::uint32_t original[kWidth];  // index in the arrays the BVH was built from
   };
 
   // Depth-first traversal for queries other than one ray (a tile of rays, say). `reach(lo, hi)` returns the
   // distance at which the query reaches the box [lo, hi], or +inf when it cannot; of two children the nearer is
-  // visited first, and a box is skipped when its distance exceeds `limit()` at the time it comes up. `leaf(spheres,
-  // original, count)` gets `count` spheres in leaf order and their indices in the arrays the BVH was built from.
-  template <class Reach, class Limit, class Leaf>
-  void traverse(Reach&& reach, Limit&& limit, Leaf&& leaf) const;
+  // visited first, and a box is skipped when its distance exceeds `limit()` at the time it comes up. `leaf(leaf,
+  // count)` gets a leaf and its number of spheres (lanes 0 .. count - 1).
+  template <class Reach, class Limit, class LeafVisit>
+  void traverse(Reach&& reach, Limit&& limit, LeafVisit&& leaf) const;
 
-  // The deepest a BVH gets (see bvh.cpp); a depth-first traversal keeps at most 3 pending children per level.
+  // The deepest a BVH gets (see bvh.cpp); a depth-first traversal keeps at most kWidth - 1 pending children per
+  // level.
   static constexpr int kMaxDepth = 64;
 
  private:
   // Implementation state, free to change; see bvh.cpp for the layout's reasons and invariants.
 
-  // A node holds the boxes of its up to four children, one axis and side per 16 bytes, so that one SSE
-  // operation tests all four against a ray. A child is another node or a leaf: a run of up to four spheres in
-  // leaf order. Built as a binary tree and collapsed (see bvh.cpp).
+  // A node holds the boxes of its up to kWidth children, one axis and side per row, so that one SIMD operation
+  // tests all of them against a ray. A child is another node or a leaf. Built as a binary tree and collapsed
+  // (see bvh.cpp).
   struct alignas(64) Node {
     static constexpr std::uint32_t kInner = 0xffffffff;  // count of a child that is a node
-    float bounds[6][4];        // [2 * axis + side][child], side 0 = lo, 1 = hi; empty slots: lo = +inf, hi = -inf
-    std::uint32_t first[4];    // node child: its node index; leaf child: its first sphere in leaf order
-    std::uint32_t count[4];    // kInner, the leaf's number of spheres, or 0 for an empty slot
+    float bounds[6][kWidth];        // [2 * axis + side][child], side 0 = lo, 1 = hi; empty slots: lo = +inf, hi = -inf
+    std::uint32_t first[kWidth];    // node child: its node index; leaf child: its index in leaves_
+    std::uint32_t count[kWidth];    // kInner, the leaf's number of spheres, or 0 for an empty slot
   };
-  std::vector<Node> nodes_;            // nodes_[0] is the root; empty when built over no spheres
-  std::vector<Sphere> spheres_;        // in leaf order
-  std::vector<std::uint32_t> index_;   // leaf order -> original index
+  std::vector<Node> nodes_;    // nodes_[0] is the root; empty when built over no spheres
+  std::vector<Leaf> leaves_;
+  std::size_t spheres_ = 0;
 };
 
-template <class Reach, class Limit, class Leaf>
-void Bvh::traverse(Reach&& reach, Limit&& limit, Leaf&& leaf) const {
+template <class Reach, class Limit, class LeafVisit>
+void Bvh::traverse(Reach&& reach, Limit&& limit, LeafVisit&& leaf) const {
   if (nodes_.empty()) return;
   struct Pending {
     std::uint32_t first, count;
     float distance;
   };
-  Pending stack[3 * kMaxDepth + 1];
+  Pending stack[(kWidth - 1) * kMaxDepth + 1];
   int size = 0;
   stack[size++] = {0, Node::kInner, 0.0f};
   while (size > 0) {
     const Pending p = stack[--size];
     if (p.distance > limit()) continue;
     if (p.count != Node::kInner) {
-      leaf(&spheres_[p.first], &index_[p.first], p.count);
+      leaf(leaves_[p.first], p.count);
       continue;
     }
     const Node& n = nodes_[p.first];
-    float distance[4];
-    int order[4];
+    float distance[kWidth];
+    int order[kWidth];
     int hits = 0;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < kWidth; ++k) {
       if (n.count[k] == 0) continue;
       const float lo[3] = {n.bounds[0][k], n.bounds[2][k], n.bounds[4][k]};
       const float hi[3] = {n.bounds[1][k], n.bounds[3][k], n.bounds[5][k]};

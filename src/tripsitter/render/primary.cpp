@@ -99,9 +99,10 @@ class Tile {
   // Boxes farther than this hold nothing nearer than what every ray has hit.
   float limit() const { return limit_; }
 
-  void leaf(const Bvh::Sphere* spheres, const std::uint32_t* original, std::uint32_t count) {
+  void leaf(const Bvh::Leaf& leaf, std::uint32_t count) {
     bool updated = false;
-    for (std::uint32_t i = 0; i < count; ++i) updated |= sphere(spheres[i], original[i]);
+    for (std::uint32_t i = 0; i < count; ++i)
+      updated |= sphere({leaf.cx[i], leaf.cy[i], leaf.cz[i]}, leaf.radius[i], leaf.original[i]);
     if (updated) update_limit();
   }
 
@@ -120,14 +121,14 @@ class Tile {
 
  private:
   // Intersects one sphere with the rows of rays it can touch; true when some ray's closest hit changed.
-  bool sphere(const Bvh::Sphere& s, std::uint32_t index) {
-    const Vec3f offset = s.center - eye_;
+  bool sphere(const Vec3f& center, float radius, std::uint32_t index) {
+    const Vec3f offset = center - eye_;
     for (const Plane& p : sides_) {
-      if (!p.reaches(offset, s.radius)) return false;
+      if (!p.reaches(offset, radius)) return false;
     }
     // The scalar kernel's per-sphere terms: oc = origin - center, c = |oc|^2 - r^2.
-    const Vec3f oc = eye_ - s.center;
-    const float r2 = s.radius * s.radius;
+    const Vec3f oc = eye_ - center;
+    const float r2 = radius * radius;
     const F8 ocx = F8::set1(oc.x), ocy = F8::set1(oc.y), ocz = F8::set1(oc.z), vr2 = F8::set1(r2);
     const F8 c = F8::set1(core::dot(oc, oc) - r2);
     const F8 zero = F8::set1(0.0f), sign = F8::set1(-0.0f);
@@ -135,7 +136,7 @@ class Tile {
     bool updated = false;
     for (int r = 0; r < kTile; ++r) {
       const Plane& row = rows_[r];
-      if (std::abs(core::dot(row.normal, offset)) > s.radius * row.norm + kPlaneMargin * row.norm * l1(offset)) continue;
+      if (std::abs(core::dot(row.normal, offset)) > radius * row.norm + kPlaneMargin * row.norm * l1(offset)) continue;
       const F8 dx = F8::load(dx_[r]), dy = F8::load(dy_[r]), dz = F8::load(dz_[r]);
       const F8 b = ocx * dx + ocy * dy + ocz * dz;
       const F8 scale = b * F8::load(inv_a_[r]);
@@ -198,7 +199,7 @@ core::ImageRgb8 render_primary(const PathScene& scene, const ThinLensCamera& cam
       Tile tile(scene, camera, tx * kTile, tile_row * kTile, settings.width, settings.height);
       scene.bvh().traverse([&](const float lo[3], const float hi[3]) { return tile.reach(lo, hi); },
                            [&] { return tile.limit(); },
-                           [&](const Bvh::Sphere* s, const std::uint32_t* original, std::uint32_t n) { tile.leaf(s, original, n); });
+                           [&](const Bvh::Leaf& leaf, std::uint32_t n) { tile.leaf(leaf, n); });
       tile.shade(scene, camera, image);
     }
   });

@@ -29,10 +29,14 @@ struct F8 {
   friend F8 operator^(F8 a, F8 b) { return {_mm256_xor_ps(a.v, b.v)}; }
   friend F8 andnot(F8 mask, F8 a) { return {_mm256_andnot_ps(mask.v, a.v)}; }  // a where mask is clear
   friend F8 sqrt(F8 a) { return {_mm256_sqrt_ps(a.v)}; }
+  // Lane by lane; b where either is NaN.
+  friend F8 min(F8 a, F8 b) { return {_mm256_min_ps(a.v, b.v)}; }
+  friend F8 max(F8 a, F8 b) { return {_mm256_max_ps(a.v, b.v)}; }
   // Masks: all ones in a lane where the comparison holds (false where either side is NaN).
   friend F8 operator>=(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GE_OQ)}; }
   friend F8 operator>(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
   friend F8 operator<(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
+  friend F8 operator<=(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)}; }
   friend F8 operator==(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)}; }
   friend F8 operator!=(F8 a, F8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_NEQ_UQ)}; }
   // mask ? a : b, lane by lane.
@@ -56,9 +60,12 @@ struct F8 {
   friend F8 operator^(F8 a, F8 b) { return {_mm_xor_ps(a.lo, b.lo), _mm_xor_ps(a.hi, b.hi)}; }
   friend F8 andnot(F8 mask, F8 a) { return {_mm_andnot_ps(mask.lo, a.lo), _mm_andnot_ps(mask.hi, a.hi)}; }
   friend F8 sqrt(F8 a) { return {_mm_sqrt_ps(a.lo), _mm_sqrt_ps(a.hi)}; }
+  friend F8 min(F8 a, F8 b) { return {_mm_min_ps(a.lo, b.lo), _mm_min_ps(a.hi, b.hi)}; }
+  friend F8 max(F8 a, F8 b) { return {_mm_max_ps(a.lo, b.lo), _mm_max_ps(a.hi, b.hi)}; }
   friend F8 operator>=(F8 a, F8 b) { return {_mm_cmpge_ps(a.lo, b.lo), _mm_cmpge_ps(a.hi, b.hi)}; }
   friend F8 operator>(F8 a, F8 b) { return {_mm_cmpgt_ps(a.lo, b.lo), _mm_cmpgt_ps(a.hi, b.hi)}; }
   friend F8 operator<(F8 a, F8 b) { return {_mm_cmplt_ps(a.lo, b.lo), _mm_cmplt_ps(a.hi, b.hi)}; }
+  friend F8 operator<=(F8 a, F8 b) { return {_mm_cmple_ps(a.lo, b.lo), _mm_cmple_ps(a.hi, b.hi)}; }
   friend F8 operator==(F8 a, F8 b) { return {_mm_cmpeq_ps(a.lo, b.lo), _mm_cmpeq_ps(a.hi, b.hi)}; }
   friend F8 operator!=(F8 a, F8 b) { return {_mm_cmpneq_ps(a.lo, b.lo), _mm_cmpneq_ps(a.hi, b.hi)}; }
   friend F8 select(F8 mask, F8 a, F8 b) {
