@@ -14,6 +14,7 @@
 #include <tripsitter/render/bvh.h>
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -608,6 +609,153 @@ bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) co
   }
   if (found) hit = {best_t, best};
   return found;
+}
+
+namespace {
+
+// A packet's rays, one per lane: the slab test's and the sphere kernel's per-ray terms, computed with the same
+// operations as make_slab_ray and make_kernel_ray.
+struct RayPacket {
+  F8 origin[3], dir[3];
+  F8 inv_dir[3];
+  F8 negative[3];  // all ones where the direction component's sign bit is set
+  F8 dir_len2, inv_dir_len2;
+};
+
+RayPacket make_packet(const Ray (&rays)[kWidth]) {
+  alignas(32) float v[3][2][kWidth];
+  for (int k = 0; k < kWidth; ++k) {
+    for (int a = 0; a < 3; ++a) {
+      v[a][0][k] = rays[k].origin[a];
+      v[a][1][k] = rays[k].dir[a];
+    }
+  }
+  RayPacket p;
+  const F8 one = F8::set1(1.0f);
+  for (int a = 0; a < 3; ++a) {
+    p.origin[a] = F8::load(v[a][0]);
+    p.dir[a] = F8::load(v[a][1]);
+    p.inv_dir[a] = one / p.dir[a];
+    // 1 / -0 = -inf: negative exactly where the sign bit is set, as std::signbit in make_slab_ray.
+    p.negative[a] = p.inv_dir[a] < F8::set1(0.0f);
+  }
+  p.dir_len2 = p.dir[0] * p.dir[0] + p.dir[1] * p.dir[1] + p.dir[2] * p.dir[2];
+  p.inv_dir_len2 = one / p.dir_len2;
+  return p;
+}
+
+}  // namespace
+
+unsigned Bvh::intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_max, SphereHit (&hits)[kWidth]) const {
+  if (nodes_.empty()) return 0;
+  const RayPacket p = make_packet(rays);
+  const F8 vt_min = F8::set1(t_min), pad = F8::set1(kExitPad), zero = F8::set1(0.0f), sign = F8::set1(-0.0f);
+  F8 best_t = F8::set1(t_max);
+  alignas(32) float best_id[kWidth] = {};  // original index of each lane's best sphere, as float bits
+  F8 found = zero;                          // all ones in lanes that hit
+
+  // The lanes of a ray-box test: entry and exit by the slab method, the planes chosen by each lane's direction
+  // signs as make_slab_ray chooses them, NaN (0 * inf) ignored as in enter_children.
+  const auto enter = [&](const Node& n, int k, F8& t_enter) {
+    F8 t0 = vt_min, t1 = best_t;
+    for (int a = 0; a < 3; ++a) {
+      const F8 lo = F8::set1(n.bounds[2 * a][k]), hi = F8::set1(n.bounds[2 * a + 1][k]);
+      const F8 near = select(p.negative[a], hi, lo), far = select(p.negative[a], lo, hi);
+      t0 = max((near - p.origin[a]) * p.inv_dir[a], t0);
+      t1 = min((far - p.origin[a]) * p.inv_dir[a] * pad, t1);
+    }
+    t_enter = t0;
+    return (t0 <= t1).bits();
+  };
+  // The kernel of sphere_root in every lane, for one sphere of a leaf.
+  const auto test_sphere = [&](const Leaf& leaf, int i) {
+    const F8 ocx = p.origin[0] - F8::set1(leaf.cx[i]);
+    const F8 ocy = p.origin[1] - F8::set1(leaf.cy[i]);
+    const F8 ocz = p.origin[2] - F8::set1(leaf.cz[i]);
+    const F8 dx = p.dir[0], dy = p.dir[1], dz = p.dir[2];
+    const F8 b = ocx * dx + ocy * dy + ocz * dz;
+    const F8 scale = b * p.inv_dir_len2;
+    const F8 fx = ocx - dx * scale, fy = ocy - dy * scale, fz = ocz - dz * scale;
+    const F8 r2 = F8::set1(leaf.radius[i] * leaf.radius[i]);
+    const F8 disc = p.dir_len2 * (r2 - (fx * fx + fy * fy + fz * fz));
+    const F8 real = disc >= zero;
+    if (real.bits() == 0) return;
+    const F8 q = (b + copysign(sqrt(disc), b)) ^ sign;
+    const F8 c = (ocx * ocx + ocy * ocy + ocz * ocz) - r2;
+    const F8 q_near = q * p.inv_dir_len2;
+    const F8 q_far = (q != zero) & (c / q);
+    const F8 swap = q_far < q_near;
+    const F8 t_near = select(swap, q_far, q_near), t_far = select(swap, q_near, q_far);
+    const F8 t = select(t_near > vt_min, t_near, t_far);
+    const F8 valid = real & (t > vt_min);
+    const F8 closer = valid & (t < best_t);
+    const std::uint32_t original = leaf.original[i];
+    if (closer.bits() != 0) {
+      best_t = select(closer, t, best_t);
+      select(closer, F8::set1(std::bit_cast<float>(original)), F8::load(best_id)).store(best_id);
+      found = found | closer;
+    }
+    // Equal t: the lower original index wins, as in intersect.
+    if (const int ties = (valid & (t == best_t)).bits(); ties != 0) {
+      for (int k = 0; k < kWidth; ++k) {
+        if ((ties >> k & 1) && original < std::bit_cast<std::uint32_t>(best_id[k]))
+          best_id[k] = std::bit_cast<float>(original);
+      }
+    }
+  };
+
+  struct Pending {
+    std::uint32_t node;
+    float t_enter;  // the nearest any lane enters the node's box
+  };
+  Pending stack[(kWidth - 1) * kStackSize + 1];
+  int size = 0;
+  stack[size++] = {0, t_min};
+  alignas(32) float lanes[kWidth];
+  while (size > 0) {
+    const Pending pending = stack[--size];
+    // Skipped when every lane has a hit nearer than where the packet first enters the box.
+    best_t.store(lanes);
+    if (pending.t_enter > *std::max_element(lanes, lanes + kWidth)) continue;
+    const Node& n = nodes_[pending.node];
+    float key[kWidth];
+    int order[kWidth];
+    int nodes = 0;
+    for (int k = 0; k < kWidth; ++k) {
+      if (n.count[k] == 0) continue;
+      F8 t_enter;
+      const int entering = enter(n, k, t_enter);
+      if (entering == 0) continue;
+      if (n.count[k] != Node::kInner) {
+        for (std::uint32_t i = 0; i < n.count[k]; ++i) test_sphere(leaves_[n.first[k]], static_cast<int>(i));
+        continue;
+      }
+      // Ordered by the nearest entry among the lanes that enter, nearest last so that it is popped first.
+      alignas(32) float entries[kWidth];
+      t_enter.store(entries);
+      float nearest = std::numeric_limits<float>::infinity();
+      for (int lane = 0; lane < kWidth; ++lane) {
+        if (entering >> lane & 1) nearest = std::min(nearest, entries[lane]);
+      }
+      int j = nodes++;
+      for (; j > 0 && key[j - 1] < nearest; --j) {
+        key[j] = key[j - 1];
+        order[j] = order[j - 1];
+      }
+      key[j] = nearest;
+      order[j] = k;
+    }
+    for (int j = 0; j < nodes; ++j) {
+      assert(size < (kWidth - 1) * kStackSize + 1);
+      stack[size++] = {n.first[order[j]], key[j]};
+    }
+  }
+  const unsigned hit_lanes = static_cast<unsigned>(found.bits());
+  best_t.store(lanes);
+  for (int k = 0; k < kWidth; ++k) {
+    if (hit_lanes >> k & 1) hits[k] = {lanes[k], std::bit_cast<std::uint32_t>(best_id[k])};
+  }
+  return hit_lanes;
 }
 
 std::size_t Bvh::sphere_count() const { return spheres_; }

@@ -30,18 +30,24 @@ const char* simd_instruction_set();
 
 class Bvh {
  public:
+  // Children per node, spheres per leaf and rays per packet: one AVX register of floats (two SSE registers without
+  // AVX).
+  static constexpr int kWidth = 8;
+
   // Builds over spheres (REQUIRES centers.size() == radii.size(), radii > 0). Copies what it needs.
   static Bvh build(std::span<const Vec3f> centers, std::span<const float> radii);
 
   // Closest hit with t in (t_min, t_max): the same sphere and t as intersect_brute_force, ties aside.
   bool intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const;
 
+  // The closest hits of kWidth rays at once, each as intersect(rays[k], t_min, t_max, hits[k]) finds it, ties
+  // aside; bit k of the result is set when rays[k] hits. For rays that travel together, such as a row of camera
+  // rays: they share one walk of the tree and each step serves all of them.
+  unsigned intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_max, SphereHit (&hits)[kWidth]) const;
+
   std::size_t sphere_count() const;
   std::size_t node_count() const;
   std::size_t memory_bytes() const;  // of everything the structure holds
-
-  // Children per node and spheres per leaf: one AVX register of floats (two SSE registers without AVX).
-  static constexpr int kWidth = 8;
 
   // The spheres of one leaf, a structure of arrays so that one SIMD load takes a coordinate of all of them. Lanes
   // past the leaf's count have NaN centres and radius 0: no ray hits them.

@@ -315,12 +315,25 @@ Query random_query(std::mt19937& rng, const Scene& scene, float extent) {
 // is a tie: spheres whose t are equal, or equal up to rounding (overlapping spheres seen from very far away), which
 // box culling cannot order (bvh.cpp). The BVH's sphere must then give a t no smaller than brute force's and within
 // rounding of it.
-int expect_matches_brute_force(const Scene& scene, const Bvh& bvh, const std::vector<Query>& queries) {
+// `found[i]` and `got[i]` are the BVH's answer to queries[i] (by default, Bvh::intersect's).
+int expect_matches_brute_force(const Scene& scene, const Bvh& bvh, const std::vector<Query>& queries,
+                               std::vector<bool> found = {}, std::vector<SphereHit> got_hits = {}) {
+  if (found.empty()) {
+    found.resize(queries.size());
+    got_hits.resize(queries.size());
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      SphereHit h;
+      found[i] = bvh.intersect(queries[i].ray, queries[i].t_min, queries[i].t_max, h);
+      got_hits[i] = h;
+    }
+  }
   int hits = 0, ties = 0;
-  for (const Query& q : queries) {
-    SphereHit want, got;
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const Query& q = queries[i];
+    SphereHit want;
     const bool want_hit = intersect_brute_force(scene.centers, scene.radii, q.ray, q.t_min, q.t_max, want);
-    const bool got_hit = bvh.intersect(q.ray, q.t_min, q.t_max, got);
+    const bool got_hit = found[i];
+    const SphereHit got = got_hits[i];
     EXPECT_EQ(got_hit, want_hit) << "origin " << q.ray.origin.x << "," << q.ray.origin.y << "," << q.ray.origin.z
                                  << " dir " << q.ray.dir.x << "," << q.ray.dir.y << "," << q.ray.dir.z;
     if (!got_hit || !want_hit) continue;
@@ -392,6 +405,47 @@ TEST(Bvh, MatchesBruteForceOnRandomScenes) {
   EXPECT_GT(hits, queries_total / 4);  // the comparison is not vacuous
 }
 
+// Packets of eight rays, as scattered as the single queries above or as close as a row of camera rays, get each
+// ray's own answer.
+TEST(Bvh, PacketsMatchBruteForce) {
+  std::mt19937 rng(16);
+  int hits = 0, queries_total = 0;
+  for (int scene_index = 0; scene_index < 40; ++scene_index) {
+    const std::size_t n = scene_index < 8 ? static_cast<std::size_t>(scene_index + 1)
+                                          : std::uniform_int_distribution<std::size_t>(1, 2000)(rng);
+    const float extent = log_uniform(rng, 1.0f, 1000.0f);
+    const Scene scene = random_scene(rng, n, extent);
+    const Bvh bvh = Bvh::build(scene.centers, scene.radii);
+    std::vector<Query> queries;
+    for (int packet = 0; packet < 200; ++packet) {
+      const Query first = random_query(rng, scene, extent);
+      const bool coherent = packet % 2 == 1;
+      for (int k = 0; k < Bvh::kWidth; ++k) {
+        Query q = k == 0 || !coherent ? random_query(rng, scene, extent) : first;
+        if (coherent) q.ray.dir = first.ray.dir + random_unit(rng) * (0.01f * length(first.ray.dir));
+        q.t_min = first.t_min;  // one interval per packet
+        q.t_max = first.t_max;
+        queries.push_back(q);
+      }
+    }
+    std::vector<bool> found(queries.size());
+    std::vector<SphereHit> got(queries.size());
+    for (std::size_t i = 0; i < queries.size(); i += Bvh::kWidth) {
+      Ray rays[Bvh::kWidth];
+      for (int k = 0; k < Bvh::kWidth; ++k) rays[k] = queries[i + k].ray;
+      SphereHit packet_hits[Bvh::kWidth];
+      const unsigned lanes = bvh.intersect_packet(rays, queries[i].t_min, queries[i].t_max, packet_hits);
+      for (int k = 0; k < Bvh::kWidth; ++k) {
+        found[i + k] = (lanes >> k & 1) != 0;
+        got[i + k] = packet_hits[k];
+      }
+    }
+    hits += expect_matches_brute_force(scene, bvh, queries, found, got);
+    queries_total += static_cast<int>(queries.size());
+  }
+  EXPECT_GT(hits, queries_total / 4);
+}
+
 TEST(Bvh, EmptyNeverHits) {
   const Bvh bvh = Bvh::build({}, {});
   EXPECT_EQ(bvh.sphere_count(), 0u);
@@ -442,6 +496,12 @@ TEST(Bvh, ExactDuplicatesResolveToTheLowestIndex) {
   ASSERT_TRUE(bvh.intersect({{0, 0, 0}, {0, 0, 1}}, 0, kInf, hit));
   EXPECT_EQ(hit.sphere, 0u);
   EXPECT_FLOAT_EQ(hit.t, 4.0f);
+  // Every lane of a packet too, whichever leaf it meets first.
+  Ray rays[Bvh::kWidth];
+  for (int k = 0; k < Bvh::kWidth; ++k) rays[k] = {{0.1f * static_cast<float>(k - 4), 0, 0}, {0, 0, 1}};
+  SphereHit hits[Bvh::kWidth];
+  ASSERT_EQ(bvh.intersect_packet(rays, 0, kInf, hits), (1u << Bvh::kWidth) - 1);
+  for (const SphereHit& h : hits) EXPECT_EQ(h.sphere, 0u);
 }
 
 TEST(Bvh, ExtremeCoordinatesAndSkewedDistributions) {
