@@ -156,7 +156,8 @@ class SrgbTable {
     }
   }
   std::uint8_t encode(float linear) const {
-    const float v = std::fmin(std::fmax(linear, 0.0f), 1.0f);  // NaN becomes 0, as in srgb_encode
+    // Clamped to [0, 1], NaN to 0, as in srgb_encode (comparisons: std::fmin and std::fmax are library calls).
+    const float v = linear > 0.0f ? (linear < 1.0f ? linear : 1.0f) : 0.0f;
     const int bin = std::min(static_cast<int>(v * kBins), kBins - 1);
     const int level = bin_level_[bin];
     return static_cast<std::uint8_t>(v >= start_[level + 1] ? level + 1 : level);
@@ -173,15 +174,19 @@ class SrgbTable {
 core::ImageRgb8 to_srgb8(const ImageRgbF& image) { return to_srgb8(image, 1.0f); }
 
 core::ImageRgb8 to_srgb8(const ImageRgbF& image, float scale) {
-  static const SrgbTable table;
   core::ImageRgb8 out(image.width, image.height);
-  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-    const Vec3f p = image.pixels[i] * scale;
-    out.pixels[3 * i + 0] = table.encode(p.x);
-    out.pixels[3 * i + 1] = table.encode(p.y);
-    out.pixels[3 * i + 2] = table.encode(p.z);
-  }
+  encode_srgb8(image.pixels.data(), image.pixels.size(), scale, out.pixels.data());
   return out;
+}
+
+void encode_srgb8(const Vec3f* linear, std::size_t count, float scale, std::uint8_t* out) {
+  static const SrgbTable table;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec3f p = linear[i] * scale;
+    out[3 * i + 0] = table.encode(p.x);
+    out[3 * i + 1] = table.encode(p.y);
+    out[3 * i + 2] = table.encode(p.z);
+  }
 }
 
 }  // namespace tripsitter::render

@@ -110,5 +110,8 @@ std::uint8_t srgb_encode(float linear);
 // Every channel through srgb_encode (by table: the same bytes, without pow), after multiplying by `scale`.
 core::ImageRgb8 to_srgb8(const ImageRgbF& image);
 core::ImageRgb8 to_srgb8(const ImageRgbF& image, float scale);
+// The same for `count` pixels from `linear` into 3 * count bytes at `out`: a part of an image, for callers that
+// share an image's rows among threads.
+void encode_srgb8(const Vec3f* linear, std::size_t count, float scale, std::uint8_t* out);
 
 }  // namespace tripsitter::render
