@@ -74,14 +74,17 @@ void render_rows_over(const PathScene& scene, const Query& query, const ThinLens
   const float inv_spp = 1.0f / static_cast<float>(settings.spp);
   core::parallel_for(0, rows, settings.threads, [&](int k) {
     const int row = first + k * step;
-    for (int col = 0; col < settings.width; ++col) {
-      const std::uint64_t index = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(settings.width) +
-                                  static_cast<std::uint64_t>(col);
-      Rng rng = Rng::for_item(settings.seed, index);
+    // Settings copied to locals: through the captured reference the compiler reloads them after every call.
+    const int width = settings.width, spp = settings.spp, max_depth = settings.max_depth;
+    const RngStreams streams(settings.seed);
+    const std::uint64_t row_start = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(width);
+    Vec3f* const pixels = image.pixels.data() + row_start;
+    for (int col = 0; col < width; ++col) {
+      Rng rng = streams.stream(row_start + static_cast<std::uint64_t>(col));
       Vec3f sum{0, 0, 0};
-      for (int s = 0; s < settings.spp; ++s)
-        sum += trace_path_over(scene, query, camera.ray(col, row, rng), settings.max_depth, settings.sky, rng);
-      image.pixels[index] = sum * inv_spp;
+      for (int s = 0; s < spp; ++s)
+        sum += trace_path_over(scene, query, camera.ray(col, row, rng), max_depth, settings.sky, rng);
+      pixels[col] = sum * inv_spp;
     }
     if (on_samples) on_samples(static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp));
   });

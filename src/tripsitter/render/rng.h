@@ -21,8 +21,8 @@ constexpr std::uint64_t mix64(std::uint64_t z) {
 class Rng {
  public:
   explicit Rng(std::uint64_t seed) : state_(mix64(seed) | 1u) {}
-  // An independent stream for one item (pixel) of a job with this seed.
-  static Rng for_item(std::uint64_t seed, std::uint64_t item) { return Rng(mix64(seed) ^ mix64(item + 0x5851F42D4C957F2Dull)); }
+  // An independent stream for one item (pixel) of a job with this seed (RngStreams hashes the seed once for many).
+  static Rng for_item(std::uint64_t seed, std::uint64_t item);
 
   std::uint64_t next_u64() {
     state_ ^= state_ >> 12;
@@ -52,5 +52,18 @@ class Rng {
  private:
   std::uint64_t state_;
 };
+
+// The streams of one job: stream(item) is Rng::for_item(seed, item), the seed's hash computed once. Rng's
+// constructor mixes (seed hash ^ item) again, and mix64 is a bijection, so the items of a job get distinct states.
+class RngStreams {
+ public:
+  explicit RngStreams(std::uint64_t seed) : seed_hash_(mix64(seed)) {}
+  Rng stream(std::uint64_t item) const { return Rng(seed_hash_ ^ item); }
+
+ private:
+  std::uint64_t seed_hash_;
+};
+
+inline Rng Rng::for_item(std::uint64_t seed, std::uint64_t item) { return RngStreams(seed).stream(item); }
 
 }  // namespace tripsitter::render
