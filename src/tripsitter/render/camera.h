@@ -34,9 +34,10 @@ class ThinLensCamera {
 };
 
 inline Ray ThinLensCamera::ray(int col, int row, Rng& rng) const {
-  const float jx = rng.uniform() - 0.5f;
-  const float jy = rng.uniform() - 0.5f;
-  const Vec3f target = pixel00_ + pixel_du_ * (static_cast<float>(col) + jx) + pixel_dv_ * (static_cast<float>(row) + jy);
+  // Both jitters from one draw, uniform in [-0.5, 0.5).
+  const Rng::Pair jitter = rng.symmetric_pair(0.5f);
+  const Vec3f target = pixel00_ + pixel_du_ * (static_cast<float>(col) + jitter.a) +
+                       pixel_dv_ * (static_cast<float>(row) + jitter.b);
   Vec3f from = origin_;
   if (defocus_) {
     const Vec3f d = rng.in_unit_disk();
