@@ -40,18 +40,22 @@ PathScene::PathScene(std::span<const scene::Sphere> spheres)
 SurfacePoint PathScene::surface(const Ray& ray, const SphereHit& hit) const {
   SurfacePoint s;
   s.p = ray.at(hit.t);
-  const Vec3f outward = (s.p - centers_[hit.sphere]) / radii_[hit.sphere];
-  s.front_face = core::dot(ray.dir, outward) < 0;
-  s.normal = s.front_face ? outward : -outward;
+  // p - centre is the outward normal times the radius: its sign against the ray tells the side, so one reciprocal,
+  // negated for a ray from inside, scales it to the unit normal facing the ray.
+  const Vec3f radial = s.p - centers_[hit.sphere];
+  s.front_face = core::dot(ray.dir, radial) < 0;
+  const float inv_radius = 1.0f / radii_[hit.sphere];
+  s.normal = radial * (s.front_face ? inv_radius : -inv_radius);
   return s;
 }
 
 namespace {
 
 // The path tracer over any closest-hit query with Bvh::intersect's contract: the scene's own BVH, called directly,
-// or a HitQuery.
+// or a HitQuery. Inline, so that GCC takes it into the pixel loop: no call and no copy of the ray per sample.
 template <class Query>
-Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int max_depth, const Sky& sky, Rng& rng) {
+inline Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int max_depth, const Sky& sky,
+                             Rng& rng) {
   Vec3f throughput{1, 1, 1};
   for (int depth = 0; depth < max_depth; ++depth) {
     SphereHit hit;
