@@ -32,18 +32,6 @@ ThinLensCamera::ThinLensCamera(const scene::CameraSettings& s, int width, int he
   defocus_ = s.defocus_angle > 0;
 }
 
-Ray ThinLensCamera::ray(int col, int row, Rng& rng) const {
-  const float jx = rng.uniform() - 0.5f;
-  const float jy = rng.uniform() - 0.5f;
-  const Vec3f target = pixel00_ + pixel_du_ * (static_cast<float>(col) + jx) + pixel_dv_ * (static_cast<float>(row) + jy);
-  Vec3f from = origin_;
-  if (defocus_) {
-    const Vec3f d = rng.in_unit_disk();
-    from = origin_ + lens_u_ * d.x + lens_v_ * d.y;
-  }
-  return {from, target - from};
-}
-
 Ray ThinLensCamera::centre_ray(int col, int row) const {
   const Vec3f target = pixel00_ + pixel_du_ * static_cast<float>(col) + pixel_dv_ * static_cast<float>(row);
   return {origin_, target - origin_};

@@ -14,6 +14,7 @@ class ThinLensCamera {
   ThinLensCamera(const scene::CameraSettings& settings, int width, int height);
 
   // A ray through a uniformly jittered point of pixel (col, row), row 0 at the top, starting on the lens.
+  // Inline: the path tracer draws one per sample.
   Ray ray(int col, int row, Rng& rng) const;
   // The ray through the pixel's centre from the lens centre (no jitter, no defocus).
   Ray centre_ray(int col, int row) const;
@@ -31,5 +32,18 @@ class ThinLensCamera {
   Vec3f lens_u_, lens_v_;      // the defocus disk's radius vectors
   bool defocus_ = false;
 };
+
+inline Ray ThinLensCamera::ray(int col, int row, Rng& rng) const {
+  // Both jitters from one draw, uniform in [-0.5, 0.5).
+  const Rng::Pair jitter = rng.symmetric_pair(0.5f);
+  const Vec3f target = pixel00_ + pixel_du_ * (static_cast<float>(col) + jitter.a) +
+                       pixel_dv_ * (static_cast<float>(row) + jitter.b);
+  Vec3f from = origin_;
+  if (defocus_) {
+    const Vec3f d = rng.in_unit_disk();
+    from = origin_ + lens_u_ * d.x + lens_v_ * d.y;
+  }
+  return {from, target - from};
+}
 
 }  // namespace tripsitter::render

@@ -1,6 +1,7 @@
 // How light leaves a surface: the three materials of the report's section 7 (SPEC.md section C).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include <tripsitter/render/ray.h>
@@ -32,7 +33,9 @@ inline Vec3f reflect(const Vec3f& v, const Vec3f& n) { return v - n * (2 * core:
 
 // Snell's law for a unit incident direction; eta_ratio = eta_incident / eta_transmitted.
 inline Vec3f refract(const Vec3f& unit_in, const Vec3f& n, float eta_ratio) {
-  const float cos_theta = std::fmin(-core::dot(unit_in, n), 1.0f);
+  // std::min and std::max here and below: single instructions, where std::fmin and std::fmax are library calls (they
+  // differ only for NaN, which finite rays do not make).
+  const float cos_theta = std::min(-core::dot(unit_in, n), 1.0f);
   const Vec3f perpendicular = (unit_in + n * cos_theta) * eta_ratio;
   const Vec3f parallel = n * -std::sqrt(std::fabs(1.0f - core::dot(perpendicular, perpendicular)));
   return perpendicular + parallel;
@@ -66,8 +69,8 @@ inline Scatter scatter(const PathMaterial& m, const Vec3f& dir_in, const Surface
       if (m.ior == 1.0f) return {true, m.albedo, dir_in};
       const float eta = s.front_face ? 1.0f / m.ior : m.ior;
       const Vec3f unit_in = core::normalize(dir_in);
-      const float cos_theta = std::fmin(-core::dot(unit_in, s.normal), 1.0f);
-      const float sin_theta = std::sqrt(std::fmax(0.0f, 1.0f - cos_theta * cos_theta));
+      const float cos_theta = std::min(-core::dot(unit_in, s.normal), 1.0f);
+      const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
       const bool total_internal = eta * sin_theta > 1.0f;
       // One of reflect or refract per ray, with the Fresnel probability.
       const Vec3f d = total_internal || schlick(cos_theta, eta) > rng.uniform() ? reflect(unit_in, s.normal)

@@ -40,18 +40,22 @@ PathScene::PathScene(std::span<const scene::Sphere> spheres)
 SurfacePoint PathScene::surface(const Ray& ray, const SphereHit& hit) const {
   SurfacePoint s;
   s.p = ray.at(hit.t);
-  const Vec3f outward = (s.p - centers_[hit.sphere]) / radii_[hit.sphere];
-  s.front_face = core::dot(ray.dir, outward) < 0;
-  s.normal = s.front_face ? outward : -outward;
+  // p - centre is the outward normal times the radius: its sign against the ray tells the side, so one reciprocal,
+  // negated for a ray from inside, scales it to the unit normal facing the ray.
+  const Vec3f radial = s.p - centers_[hit.sphere];
+  s.front_face = core::dot(ray.dir, radial) < 0;
+  const float inv_radius = 1.0f / radii_[hit.sphere];
+  s.normal = radial * (s.front_face ? inv_radius : -inv_radius);
   return s;
 }
 
 namespace {
 
 // The path tracer over any closest-hit query with Bvh::intersect's contract: the scene's own BVH, called directly,
-// or a HitQuery.
+// or a HitQuery. Inline, so that GCC takes it into the pixel loop: no call and no copy of the ray per sample.
 template <class Query>
-Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int max_depth, const Sky& sky, Rng& rng) {
+inline Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int max_depth, const Sky& sky,
+                             Rng& rng) {
   Vec3f throughput{1, 1, 1};
   for (int depth = 0; depth < max_depth; ++depth) {
     SphereHit hit;
@@ -74,14 +78,17 @@ void render_rows_over(const PathScene& scene, const Query& query, const ThinLens
   const float inv_spp = 1.0f / static_cast<float>(settings.spp);
   core::parallel_for(0, rows, settings.threads, [&](int k) {
     const int row = first + k * step;
-    for (int col = 0; col < settings.width; ++col) {
-      const std::uint64_t index = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(settings.width) +
-                                  static_cast<std::uint64_t>(col);
-      Rng rng = Rng::for_item(settings.seed, index);
+    // Settings copied to locals: through the captured reference the compiler reloads them after every call.
+    const int width = settings.width, spp = settings.spp, max_depth = settings.max_depth;
+    const RngStreams streams(settings.seed);
+    const std::uint64_t row_start = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(width);
+    Vec3f* const pixels = image.pixels.data() + row_start;
+    for (int col = 0; col < width; ++col) {
+      Rng rng = streams.stream(row_start + static_cast<std::uint64_t>(col));
       Vec3f sum{0, 0, 0};
-      for (int s = 0; s < settings.spp; ++s)
-        sum += trace_path_over(scene, query, camera.ray(col, row, rng), settings.max_depth, settings.sky, rng);
-      image.pixels[index] = sum * inv_spp;
+      for (int s = 0; s < spp; ++s)
+        sum += trace_path_over(scene, query, camera.ray(col, row, rng), max_depth, settings.sky, rng);
+      pixels[col] = sum * inv_spp;
     }
     if (on_samples) on_samples(static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp));
   });

@@ -1,6 +1,7 @@
 // Statistical and exact checks of the path tracer, not just "it renders".
 #include <tripsitter/render/path_tracer.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <numbers>
@@ -39,6 +40,171 @@ double rmse(const ImageRgbF& a, const ImageRgbF& b) {
     sum += core::dot(d, d) / 3.0;
   }
   return std::sqrt(sum / static_cast<double>(a.pixels.size()));
+}
+
+// Counts of values in [0, 1) in equal bins, and Pearson's chi-square statistic against the uniform distribution.
+class Histogram {
+ public:
+  explicit Histogram(int bins) : counts_(static_cast<std::size_t>(bins), 0) {}
+  void add(double x) {
+    ASSERT_GE(x, 0.0);
+    ASSERT_LT(x, 1.0);
+    ++counts_[static_cast<std::size_t>(x * static_cast<double>(counts_.size()))];
+    ++total_;
+  }
+  double chi_square() const {
+    const double expected = static_cast<double>(total_) / static_cast<double>(counts_.size());
+    double sum = 0;
+    for (const long c : counts_) sum += (static_cast<double>(c) - expected) * (static_cast<double>(c) - expected) / expected;
+    return sum;
+  }
+  // The statistic's mean (bins - 1) plus 6 of its standard deviations: a uniform sampler stays below with
+  // probability above 1 - 1e-6; a sampler a few per cent off in some bins over 10^5 samples and more does not.
+  double bound() const {
+    const double dof = static_cast<double>(counts_.size() - 1);
+    return dof + 6 * std::sqrt(2 * dof);
+  }
+
+ private:
+  std::vector<long> counts_;
+  long total_ = 0;
+};
+
+// The angle of (x, y) as a fraction of a turn, in [0, 1).
+double turn(double x, double y) {
+  const double t = std::atan2(y, x) / (2 * std::numbers::pi) + 0.5;
+  return t < 1.0 ? t : 0.0;
+}
+
+constexpr int kSamples = 200000;
+
+// Marsaglia's method: unit length, z uniform in [-1, 1] (Archimedes), the angle around z uniform, and the moments
+// of the uniform measure (E x = 0, E x^2 = 1/3, E xy = 0). Normalised points of the cube, or z = 1 - 2 sqrt(s),
+// fail by far.
+TEST(Rng, UnitVectorIsUniformOnTheSphere) {
+  Rng rng(11);
+  Histogram z(20), angle(20), x_axis(20);
+  double m[3] = {0, 0, 0}, m2[3] = {0, 0, 0}, xy = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    const Vec3f v = rng.unit_vector();
+    ASSERT_NEAR(core::dot(v, v), 1.0f, 1e-6f);
+    z.add(std::min(0.5 * (v.z + 1.0), 0.999999));
+    angle.add(turn(v.x, v.y));
+    x_axis.add(std::min(0.5 * (v.x + 1.0), 0.999999));  // any axis: uniform too
+    for (int a = 0; a < 3; ++a) {
+      m[a] += v[a];
+      m2[a] += v[a] * v[a];
+    }
+    xy += v.x * v.y;
+  }
+  EXPECT_LT(z.chi_square(), z.bound());
+  EXPECT_LT(angle.chi_square(), angle.bound());
+  EXPECT_LT(x_axis.chi_square(), x_axis.bound());
+  // Standard deviations of the means: sqrt(1/3 / n) = 0.0013, sqrt(4/45 / n) = 0.00067, sqrt(1/15 / n) = 0.00058.
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(m[a] / kSamples, 0.0, 0.007) << a;
+    EXPECT_NEAR(m2[a] / kSamples, 1.0 / 3.0, 0.004) << a;
+  }
+  EXPECT_NEAR(xy / kSamples, 0.0, 0.004);
+}
+
+// Uniform in the disk: inside it, r^2 (the area within r) and the angle uniform. r uniform instead fails by far.
+TEST(Rng, InUnitDiskIsUniformInTheDisk) {
+  Rng rng(12);
+  Histogram r2(20), angle(20);
+  for (int i = 0; i < kSamples; ++i) {
+    const Vec3f p = rng.in_unit_disk();
+    ASSERT_EQ(p.z, 0.0f);
+    const double d2 = static_cast<double>(p.x) * p.x + static_cast<double>(p.y) * p.y;
+    ASSERT_LT(d2, 1.0);
+    r2.add(d2);
+    angle.add(turn(p.x, p.y));
+  }
+  EXPECT_LT(r2.chi_square(), r2.bound());
+  EXPECT_LT(angle.chi_square(), angle.bound());
+}
+
+// The two values of one draw: each uniform in [-h, h) on the grid h 2^-23, and independent of each other (their
+// joint histogram is uniform on 8 x 8 cells, and they are uncorrelated).
+TEST(Rng, SymmetricPairIsTwoIndependentUniforms) {
+  Rng rng(13);
+  for (const float h : {1.0f, 0.5f}) {
+    Histogram a(32), b(32), joint(64);
+    double ab = 0;
+    for (int i = 0; i < kSamples; ++i) {
+      const Rng::Pair p = rng.symmetric_pair(h);
+      ASSERT_GE(p.a, -h);
+      ASSERT_LT(p.a, h);
+      ASSERT_GE(p.b, -h);
+      ASSERT_LT(p.b, h);
+      ASSERT_EQ(p.a, std::ldexp(std::round(std::ldexp(p.a / h, 23)), -23) * h);  // a multiple of h 2^-23
+      const double ua = 0.5 * (p.a / h + 1), ub = 0.5 * (p.b / h + 1);
+      a.add(ua);
+      b.add(ub);
+      joint.add((std::floor(ua * 8) * 8 + std::floor(ub * 8)) / 64);
+      ab += static_cast<double>(p.a / h) * (p.b / h);
+    }
+    EXPECT_LT(a.chi_square(), a.bound()) << h;
+    EXPECT_LT(b.chi_square(), b.bound()) << h;
+    EXPECT_LT(joint.chi_square(), joint.bound()) << h;
+    EXPECT_NEAR(ab / kSamples, 0.0, 0.004) << h;  // standard deviation 1/3 / sqrt(n) = 0.00075
+  }
+}
+
+// The lambertian bounce, normal plus unit vector, is cosine-weighted: the density of cos(theta) is 2 cos(theta), so
+// cos^2(theta) is uniform in [0, 1], and the angle around the normal is uniform.
+TEST(Material, LambertianBounceIsCosineWeighted) {
+  Rng rng(14);
+  const PathMaterial m{scene::MaterialType::kLambertian, {0.5f, 0.5f, 0.5f}, 0, 1.5f};
+  const Vec3f n = Vec3f{1, 2, -2} / 3.0f;
+  const Vec3f e1 = core::normalize(core::cross(n, Vec3f{0, 0, 1}));
+  const Vec3f e2 = core::cross(n, e1);
+  const SurfacePoint s{{0, 0, 0}, n, true};
+  Histogram cos2(20), angle(20);
+  for (int i = 0; i < kSamples; ++i) {
+    const Scatter sc = scatter(m, {0, 0, 1}, s, rng);
+    ASSERT_TRUE(sc.scattered);
+    const Vec3f d = core::normalize(sc.dir);
+    const double c = core::dot(d, n);
+    ASSERT_GE(c, -1e-6);
+    cos2.add(std::min(c * c, 0.999999));
+    angle.add(turn(core::dot(d, e1), core::dot(d, e2)));
+  }
+  EXPECT_LT(cos2.chi_square(), cos2.bound());
+  EXPECT_LT(angle.chi_square(), angle.bound());
+}
+
+// Camera rays: the point on the focus plane uniform within the pixel, the start uniform in the lens disk.
+TEST(Camera, RaysJitterUniformlyInThePixelAndStartUniformlyOnTheLens) {
+  scene::CameraSettings c = looking_at_origin();
+  c.defocus_angle = 2;
+  const ThinLensCamera cam(c, 40, 30);
+  const ThinLensCamera::Pinhole pin = cam.pinhole();
+  const double lens_radius = 10 * std::tan(1 * std::numbers::pi / 180);
+  Rng rng(15);
+  Histogram jx(20), jy(20), r2(20), angle(20);
+  for (int i = 0; i < kSamples; ++i) {
+    const int col = i % 40, row = (i / 40) % 30;
+    const Ray ray = cam.ray(col, row, rng);
+    // The focus plane is z = 0, 10 in front of the lens at z = -10; pixels step along -x (du) and -y (dv).
+    const double t = -static_cast<double>(ray.origin.z) / ray.dir.z;
+    const double px = ray.origin.x + t * ray.dir.x, py = ray.origin.y + t * ray.dir.y;
+    const double fx = (px - pin.pixel00.x) / pin.du.x - col, fy = (py - pin.pixel00.y) / pin.dv.y - row;
+    jx.add(std::clamp(fx + 0.5, 0.0, 0.999999));
+    jy.add(std::clamp(fy + 0.5, 0.0, 0.999999));
+    ASSERT_NEAR(fx, 0.0, 0.5 + 1e-4);
+    ASSERT_NEAR(fy, 0.0, 0.5 + 1e-4);
+    ASSERT_NEAR(ray.origin.z, -10.0f, 1e-5f);
+    const double lx = ray.origin.x / lens_radius, ly = ray.origin.y / lens_radius;
+    const double d2 = lx * lx + ly * ly;
+    ASSERT_LT(d2, 1.0 + 1e-5);
+    r2.add(std::min(d2, 0.999999));
+    angle.add(turn(lx, ly));
+  }
+  EXPECT_LT(jx.chi_square(), jx.bound());
+  EXPECT_LT(jy.chi_square(), jy.bound());
+  EXPECT_LT(r2.chi_square(), r2.bound());
+  EXPECT_LT(angle.chi_square(), angle.bound());
 }
 
 TEST(Camera, CentreRayLooksAtTheTargetAndTheEdgesSpanTheFieldOfView) {
