@@ -1,8 +1,10 @@
 #include <tripsitter/render/path_tracer.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <utility>
 
 #include <tripsitter/core/parallel.h>
 
@@ -52,22 +54,50 @@ SurfacePoint PathScene::surface(const Ray& ray, const SphereHit& hit) const {
 namespace {
 
 // The path tracer over any closest-hit query with Bvh::intersect's contract: the scene's own BVH, called directly,
-// or a HitQuery. Inline, so that GCC takes it into the pixel loop: no call and no copy of the ray per sample.
+// or a HitQuery. trace_from follows a path whose first hit (or miss) is already known; inline, so that GCC takes
+// it into the pixel loop: no call and no copy of the ray per sample.
 template <class Query>
-inline Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int max_depth, const Sky& sky,
-                             Rng& rng) {
+inline Vec3f trace_from(const PathScene& scene, const Query& query, Ray ray, bool found, SphereHit hit, int max_depth,
+                        const Sky& sky, Rng& rng) {
   Vec3f throughput{1, 1, 1};
-  for (int depth = 0; depth < max_depth; ++depth) {
-    SphereHit hit;
-    if (!query.intersect(ray, kRayEpsilon, INFINITY, hit)) return hadamard(throughput, sky.radiance(ray.dir));
+  for (int depth = 1;; ++depth) {
+    if (!found) return hadamard(throughput, sky.radiance(ray.dir));
     const SurfacePoint s = scene.surface(ray, hit);
     const Scatter sc = scatter(scene.material(hit.sphere), ray.dir, s, rng);
     if (!sc.scattered) return {0, 0, 0};
     throughput = hadamard(throughput, sc.attenuation);
+    if (depth == max_depth) return {0, 0, 0};  // max_depth rays followed, and the path still bouncing
     // Unit directions keep kRayEpsilon a distance in world units, whatever length the scatter produced.
     ray = {s.p, core::normalize(sc.dir)};
+    found = query.intersect(ray, kRayEpsilon, INFINITY, hit);
   }
-  return {0, 0, 0};
+}
+
+template <class Query>
+inline Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int max_depth, const Sky& sky,
+                             Rng& rng) {
+  SphereHit hit;
+  const bool found = query.intersect(ray, kRayEpsilon, INFINITY, hit);
+  return trace_from(scene, query, ray, found, hit, max_depth, sky, rng);
+}
+
+// Camera rays go in packets of a row's kPacket neighbouring pixels, which travel together: the BVH walks the tree
+// once for all of them (Bvh::intersect_packet). Bounced rays scatter and go one at a time.
+constexpr int kPacket = Bvh::kWidth;
+
+unsigned first_hits(const Bvh& bvh, const Ray (&rays)[kPacket], SphereHit (&hits)[kPacket]) {
+  return bvh.intersect_packet(rays, kRayEpsilon, INFINITY, hits);
+}
+
+unsigned first_hits(const HitQuery& query, const Ray (&rays)[kPacket], SphereHit (&hits)[kPacket]) {
+  unsigned lanes = 0;
+  for (int k = 0; k < kPacket; ++k) lanes |= query.intersect(rays[k], kRayEpsilon, INFINITY, hits[k]) ? 1u << k : 0u;
+  return lanes;
+}
+
+template <std::size_t... I>
+std::array<Rng, sizeof...(I)> packet_streams(const RngStreams& streams, std::uint64_t first, std::index_sequence<I...>) {
+  return {streams.stream(first + I)...};
 }
 
 template <class Query>
@@ -83,12 +113,22 @@ void render_rows_over(const PathScene& scene, const Query& query, const ThinLens
     const RngStreams streams(settings.seed);
     const std::uint64_t row_start = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(width);
     Vec3f* const pixels = image.pixels.data() + row_start;
-    for (int col = 0; col < width; ++col) {
-      Rng rng = streams.stream(row_start + static_cast<std::uint64_t>(col));
-      Vec3f sum{0, 0, 0};
-      for (int s = 0; s < spp; ++s)
-        sum += trace_path_over(scene, query, camera.ray(col, row, rng), max_depth, settings.sky, rng);
-      pixels[col] = sum * inv_spp;
+    for (int col0 = 0; col0 < width; col0 += kPacket) {
+      // Each pixel keeps its own stream, drawn in the order a pixel alone draws it: camera ray, then bounces, one
+      // sample after the other. Lanes past the row's end trace a copy of the first lane's ray and are dropped.
+      const int used = std::min(kPacket, width - col0);
+      std::array<Rng, kPacket> rng =
+          packet_streams(streams, row_start + static_cast<std::uint64_t>(col0), std::make_index_sequence<kPacket>());
+      Vec3f sum[kPacket] = {};
+      for (int s = 0; s < spp; ++s) {
+        Ray rays[kPacket];
+        for (int i = 0; i < kPacket; ++i) rays[i] = i < used ? camera.ray(col0 + i, row, rng[i]) : rays[0];
+        SphereHit hits[kPacket];
+        const unsigned lanes = first_hits(query, rays, hits);
+        for (int i = 0; i < used; ++i)
+          sum[i] += trace_from(scene, query, rays[i], (lanes >> i & 1) != 0, hits[i], max_depth, settings.sky, rng[i]);
+      }
+      for (int i = 0; i < used; ++i) pixels[col0 + i] = sum[i] * inv_spp;
     }
     if (on_samples) on_samples(static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp));
   });
