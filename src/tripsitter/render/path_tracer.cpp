@@ -53,50 +53,50 @@ SurfacePoint PathScene::surface(const Ray& ray, const SphereHit& hit) const {
 
 namespace {
 
+// One bounce of a path at its hit: the path ends there (false) when the surface absorbs the ray or `depth` rays,
+// max_depth of them, have been followed; otherwise the throughput takes the surface's attenuation and `ray`
+// becomes the bounced ray.
+inline bool bounce(const PathScene& scene, Ray& ray, const SphereHit& hit, int depth, int max_depth,
+                   Vec3f& throughput, Rng& rng) {
+  const SurfacePoint s = scene.surface(ray, hit);
+  const Scatter sc = scatter(scene.material(hit.sphere), ray.dir, s, rng);
+  if (!sc.scattered || depth == max_depth) return false;
+  throughput = hadamard(throughput, sc.attenuation);
+  // Unit directions keep kRayEpsilon a distance in world units, whatever length the scatter produced.
+  ray = {s.p, core::normalize(sc.dir)};
+  return true;
+}
+
 // The path tracer over any closest-hit query with Bvh::intersect's contract: the scene's own BVH, called directly,
-// or a HitQuery. trace_from follows a path whose first hit (or miss) is already known; inline, so that GCC takes
-// it into the pixel loop: no call and no copy of the ray per sample.
+// or a HitQuery.
 template <class Query>
-inline Vec3f trace_from(const PathScene& scene, const Query& query, Ray ray, bool found, SphereHit hit, int max_depth,
-                        const Sky& sky, Rng& rng) {
+Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int max_depth, const Sky& sky, Rng& rng) {
   Vec3f throughput{1, 1, 1};
   for (int depth = 1;; ++depth) {
-    if (!found) return hadamard(throughput, sky.radiance(ray.dir));
-    const SurfacePoint s = scene.surface(ray, hit);
-    const Scatter sc = scatter(scene.material(hit.sphere), ray.dir, s, rng);
-    if (!sc.scattered) return {0, 0, 0};
-    throughput = hadamard(throughput, sc.attenuation);
-    if (depth == max_depth) return {0, 0, 0};  // max_depth rays followed, and the path still bouncing
-    // Unit directions keep kRayEpsilon a distance in world units, whatever length the scatter produced.
-    ray = {s.p, core::normalize(sc.dir)};
-    found = query.intersect(ray, kRayEpsilon, INFINITY, hit);
+    SphereHit hit;
+    if (!query.intersect(ray, kRayEpsilon, INFINITY, hit)) return hadamard(throughput, sky.radiance(ray.dir));
+    if (!bounce(scene, ray, hit, depth, max_depth, throughput, rng)) return {0, 0, 0};
   }
 }
 
-template <class Query>
-inline Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int max_depth, const Sky& sky,
-                             Rng& rng) {
-  SphereHit hit;
-  const bool found = query.intersect(ray, kRayEpsilon, INFINITY, hit);
-  return trace_from(scene, query, ray, found, hit, max_depth, sky, rng);
-}
+// Pixels go in groups of a row's kGroup neighbours. Their camera rays travel together, so the BVH walks the tree
+// once for all of them (Bvh::intersect_packet); then their paths advance in lockstep, one bounce each per round.
+// The paths are independent, so the processor overlaps one path's tree walk with the next one's instead of
+// waiting on each ray's chain of dependent loads, divisions and branches.
+constexpr int kGroup = Bvh::kWidth;
 
-// Camera rays go in packets of a row's kPacket neighbouring pixels, which travel together: the BVH walks the tree
-// once for all of them (Bvh::intersect_packet). Bounced rays scatter and go one at a time.
-constexpr int kPacket = Bvh::kWidth;
-
-unsigned first_hits(const Bvh& bvh, const Ray (&rays)[kPacket], SphereHit (&hits)[kPacket]) {
+unsigned first_hits(const Bvh& bvh, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
   return bvh.intersect_packet(rays, kRayEpsilon, INFINITY, hits);
 }
 
-unsigned first_hits(const HitQuery& query, const Ray (&rays)[kPacket], SphereHit (&hits)[kPacket]) {
+unsigned first_hits(const HitQuery& query, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
   unsigned lanes = 0;
-  for (int k = 0; k < kPacket; ++k) lanes |= query.intersect(rays[k], kRayEpsilon, INFINITY, hits[k]) ? 1u << k : 0u;
+  for (int k = 0; k < kGroup; ++k) lanes |= query.intersect(rays[k], kRayEpsilon, INFINITY, hits[k]) ? 1u << k : 0u;
   return lanes;
 }
 
 template <std::size_t... I>
-std::array<Rng, sizeof...(I)> packet_streams(const RngStreams& streams, std::uint64_t first, std::index_sequence<I...>) {
+std::array<Rng, sizeof...(I)> group_streams(const RngStreams& streams, std::uint64_t first, std::index_sequence<I...>) {
   return {streams.stream(first + I)...};
 }
 
@@ -110,23 +110,39 @@ void render_rows_over(const PathScene& scene, const Query& query, const ThinLens
     const int row = first + k * step;
     // Settings copied to locals: through the captured reference the compiler reloads them after every call.
     const int width = settings.width, spp = settings.spp, max_depth = settings.max_depth;
+    const Sky sky = settings.sky;
     const RngStreams streams(settings.seed);
     const std::uint64_t row_start = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(width);
     Vec3f* const pixels = image.pixels.data() + row_start;
-    for (int col0 = 0; col0 < width; col0 += kPacket) {
+    for (int col0 = 0; col0 < width; col0 += kGroup) {
       // Each pixel keeps its own stream, drawn in the order a pixel alone draws it: camera ray, then bounces, one
-      // sample after the other. Lanes past the row's end trace a copy of the first lane's ray and are dropped.
-      const int used = std::min(kPacket, width - col0);
-      std::array<Rng, kPacket> rng =
-          packet_streams(streams, row_start + static_cast<std::uint64_t>(col0), std::make_index_sequence<kPacket>());
-      Vec3f sum[kPacket] = {};
+      // sample after the other; so the image is the same as tracing pixel by pixel. Lanes past the row's end
+      // trace a copy of the first lane's camera ray and are dropped.
+      const int used = std::min(kGroup, width - col0);
+      std::array<Rng, kGroup> rng =
+          group_streams(streams, row_start + static_cast<std::uint64_t>(col0), std::make_index_sequence<kGroup>());
+      Vec3f sum[kGroup] = {};
       for (int s = 0; s < spp; ++s) {
-        Ray rays[kPacket];
-        for (int i = 0; i < kPacket; ++i) rays[i] = i < used ? camera.ray(col0 + i, row, rng[i]) : rays[0];
-        SphereHit hits[kPacket];
-        const unsigned lanes = first_hits(query, rays, hits);
-        for (int i = 0; i < used; ++i)
-          sum[i] += trace_from(scene, query, rays[i], (lanes >> i & 1) != 0, hits[i], max_depth, settings.sky, rng[i]);
+        Ray ray[kGroup];
+        for (int i = 0; i < kGroup; ++i) ray[i] = i < used ? camera.ray(col0 + i, row, rng[i]) : ray[0];
+        SphereHit hit[kGroup];
+        unsigned found = first_hits(query, ray, hit);  // bit i: ray[i] hits, at hit[i]
+        Vec3f throughput[kGroup];
+        for (Vec3f& t : throughput) t = {1, 1, 1};
+        unsigned alive = (1u << used) - 1;
+        for (int depth = 1; alive != 0; ++depth) {
+          for (unsigned live = alive; live != 0; live &= live - 1) {
+            const int i = std::countr_zero(live);
+            if (!(found >> i & 1)) {
+              sum[i] += hadamard(throughput[i], sky.radiance(ray[i].dir));
+              alive &= ~(1u << i);
+            } else if (!bounce(scene, ray[i], hit[i], depth, max_depth, throughput[i], rng[i])) {
+              alive &= ~(1u << i);
+            } else if (!query.intersect(ray[i], kRayEpsilon, INFINITY, hit[i])) {
+              found &= ~(1u << i);
+            }
+          }
+        }
       }
       for (int i = 0; i < used; ++i) pixels[col0 + i] = sum[i] * inv_spp;
     }
