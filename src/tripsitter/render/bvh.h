@@ -45,6 +45,10 @@ class Bvh {
   // rays: they share one walk of the tree and each step serves all of them.
   unsigned intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_max, SphereHit (&hits)[kWidth]) const;
 
+  // The closest hits of two rays, each as intersect finds it, their walks of the tree interleaved so that the
+  // processor works on one while the other waits on its loads and branches. Bit k of the result: rays[k] hits.
+  unsigned intersect_pair(const Ray (&rays)[2], float t_min, float t_max, SphereHit (&hits)[2]) const;
+
   std::size_t sphere_count() const;
   std::size_t node_count() const;
   std::size_t memory_bytes() const;  // of everything the structure holds
@@ -69,6 +73,7 @@ class Bvh {
 
  private:
   // Implementation state, free to change; see bvh.cpp for the layout's reasons and invariants.
+  struct Walk;  // one ray's walk of the tree (bvh.cpp)
 
   // A node holds the boxes of its up to kWidth children, one axis and side per row, so that one SIMD operation
   // tests all of them against a ray. A child is another node or a leaf. Built as a binary tree and collapsed

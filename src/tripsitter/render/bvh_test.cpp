@@ -446,6 +446,43 @@ TEST(Bvh, PacketsMatchBruteForce) {
   EXPECT_GT(hits, queries_total / 4);
 }
 
+// Pairs of rays, their walks interleaved, get each ray's own answer: neighbours in the list are unrelated rays
+// whose walks end at different times.
+TEST(Bvh, PairsMatchBruteForce) {
+  std::mt19937 rng(17);
+  int hits = 0, queries_total = 0;
+  for (int scene_index = 0; scene_index < 30; ++scene_index) {
+    const std::size_t n = scene_index < 8 ? static_cast<std::size_t>(scene_index + 1)
+                                          : std::uniform_int_distribution<std::size_t>(1, 2000)(rng);
+    const float extent = log_uniform(rng, 1.0f, 1000.0f);
+    const Scene scene = random_scene(rng, n, extent);
+    const Bvh bvh = Bvh::build(scene.centers, scene.radii);
+    std::vector<Query> queries;
+    for (int pair = 0; pair < 500; ++pair) {
+      const Query a = random_query(rng, scene, extent);
+      Query b = random_query(rng, scene, extent);
+      b.t_min = a.t_min;  // one interval per pair
+      b.t_max = a.t_max;
+      queries.push_back(a);
+      queries.push_back(b);
+    }
+    std::vector<bool> found(queries.size());
+    std::vector<SphereHit> got(queries.size());
+    for (std::size_t i = 0; i < queries.size(); i += 2) {
+      const Ray rays[2] = {queries[i].ray, queries[i + 1].ray};
+      SphereHit pair_hits[2];
+      const unsigned lanes = bvh.intersect_pair(rays, queries[i].t_min, queries[i].t_max, pair_hits);
+      for (std::size_t k = 0; k < 2; ++k) {
+        found[i + k] = (lanes >> k & 1) != 0;
+        got[i + k] = pair_hits[k];
+      }
+    }
+    hits += expect_matches_brute_force(scene, bvh, queries, found, got);
+    queries_total += static_cast<int>(queries.size());
+  }
+  EXPECT_GT(hits, queries_total / 4);
+}
+
 TEST(Bvh, EmptyNeverHits) {
   const Bvh bvh = Bvh::build({}, {});
   EXPECT_EQ(bvh.sphere_count(), 0u);

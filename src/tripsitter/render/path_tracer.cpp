@@ -80,9 +80,10 @@ Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int m
 }
 
 // Pixels go in groups of a row's kGroup neighbours. Their camera rays travel together, so the BVH walks the tree
-// once for all of them (Bvh::intersect_packet); then their paths advance in lockstep, one bounce each per round.
-// The paths are independent, so the processor overlaps one path's tree walk with the next one's instead of
-// waiting on each ray's chain of dependent loads, divisions and branches.
+// once for all of them (Bvh::intersect_packet); then their paths advance in lockstep, one bounce each per round,
+// and the round's bounced rays are traced two at a time with their walks interleaved (Bvh::intersect_pair). The
+// paths are independent, so the processor works on one ray while another waits on its chain of dependent loads,
+// divisions and branches.
 constexpr int kGroup = Bvh::kWidth;
 
 unsigned first_hits(const Bvh& bvh, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
@@ -93,6 +94,37 @@ unsigned first_hits(const HitQuery& query, const Ray (&rays)[kGroup], SphereHit 
   unsigned lanes = 0;
   for (int k = 0; k < kGroup; ++k) lanes |= query.intersect(rays[k], kRayEpsilon, INFINITY, hits[k]) ? 1u << k : 0u;
   return lanes;
+}
+
+// The hits of the bounced rays of the live lanes: two at a time for the BVH (Bvh::intersect_pair).
+unsigned next_hits(const Bvh& bvh, unsigned live, Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+  unsigned found = 0;
+  while (live != 0) {
+    const int i = std::countr_zero(live);
+    live &= live - 1;
+    if (live == 0) {
+      found |= bvh.intersect(rays[i], kRayEpsilon, INFINITY, hits[i]) ? 1u << i : 0u;
+      break;
+    }
+    const int j = std::countr_zero(live);
+    live &= live - 1;
+    const Ray pair[2] = {rays[i], rays[j]};
+    SphereHit pair_hits[2];
+    const unsigned lanes = bvh.intersect_pair(pair, kRayEpsilon, INFINITY, pair_hits);
+    hits[i] = pair_hits[0];
+    hits[j] = pair_hits[1];
+    found |= (lanes & 1u) << i | (lanes >> 1 & 1u) << j;
+  }
+  return found;
+}
+
+unsigned next_hits(const HitQuery& query, unsigned live, Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+  unsigned found = 0;
+  for (; live != 0; live &= live - 1) {
+    const int i = std::countr_zero(live);
+    found |= query.intersect(rays[i], kRayEpsilon, INFINITY, hits[i]) ? 1u << i : 0u;
+  }
+  return found;
 }
 
 template <std::size_t... I>
@@ -138,10 +170,9 @@ void render_rows_over(const PathScene& scene, const Query& query, const ThinLens
               alive &= ~(1u << i);
             } else if (!bounce(scene, ray[i], hit[i], depth, max_depth, throughput[i], rng[i])) {
               alive &= ~(1u << i);
-            } else if (!query.intersect(ray[i], kRayEpsilon, INFINITY, hit[i])) {
-              found &= ~(1u << i);
             }
           }
+          found = next_hits(query, alive, ray, hit);
         }
       }
       for (int i = 0; i < used; ++i) pixels[col0 + i] = sum[i] * inv_spp;
