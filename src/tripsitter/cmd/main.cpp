@@ -23,7 +23,9 @@ int main(int argc, char** argv) {
   add_bench_command(app, run);
   add_host_command(app, run);
   add_device_command(app, run);
-  // Under mpirun every rank parses the same arguments: rank 0 alone prints help and usage errors.
+  // Under mpirun every rank parses the same arguments: rank 0 alone prints help and usage errors and gives the
+  // job its exit code. The others end quietly with 0: mpirun stops every rank as soon as one exits non-zero,
+  // which could kill rank 0 before it has said what was wrong.
   std::ostringstream elsewhere;
   std::ostream& out = mpirun_place().rank == 0 ? std::cout : elsewhere;
   std::ostream& err = mpirun_place().rank == 0 ? std::cerr : elsewhere;
@@ -35,7 +37,7 @@ int main(int argc, char** argv) {
     return app.exit(e, out, err);
   } catch (const CLI::ParseError& e) {
     app.exit(e, out, err);
-    return kExitBadInput;
+    return mpirun_place().rank == 0 ? kExitBadInput : kExitOk;
   }
   try {
     return run();

@@ -112,11 +112,17 @@ int run_render_mpi(const RenderOptions& o) {
   const int failed = job.first_failed_rank(problem != nullptr);
   if (failed >= 0) {
     if (failed != job.rank()) return kExitBadInput;
+    // Said here, before the Job's MPI_Finalize lets the other ranks exit: mpirun stops every rank as soon as one
+    // exits non-zero, which could cut off a message written later.
+    const std::string who = job.is_root() ? "" : "rank " + std::to_string(job.rank()) + ": ";
     try {
       std::rethrow_exception(problem);
     } catch (const InputError& e) {
-      if (job.is_root()) throw;
-      throw InputError("rank " + std::to_string(job.rank()) + ": " + e.what());
+      std::cerr << "tripsitter: " << who << e.what() << std::endl;
+      return kExitBadInput;
+    } catch (const std::exception& e) {
+      std::cerr << "tripsitter: internal error: " << who << e.what() << std::endl;
+      return kExitInternal;
     }
   }
 
