@@ -1,6 +1,7 @@
 // Google Benchmark micro-benchmarks of the kernels. Run: build/release/bench/micro_bench
 #include <benchmark/benchmark.h>
 
+#include <bit>
 #include <cmath>
 #include <random>
 
@@ -66,16 +67,23 @@ BENCHMARK(BM_DecodeV2)->Arg(64)->Arg(4096);
 
 }  // namespace
 
-// One closest-hit query of the path tracer's kind: random origins in the field scene's grid, random directions.
-void BM_BvhIntersectField(benchmark::State& state) {
-  const scene::Scene field = *scene::builtin("field");
-  const render::PathScene scene(field.spheres);
+// Closest-hit queries of the path tracer's bounced kind: random origins in the field scene's grid, random
+// directions.
+std::vector<render::Ray> bounced_rays_in_field() {
   render::Rng rng(7);
   std::vector<render::Ray> rays(4096);
   for (auto& r : rays) {
     r.origin = {22 * rng.uniform() - 11, 0.5f * rng.uniform(), 22 * rng.uniform() - 11};
     r.dir = rng.unit_vector();
   }
+  return rays;
+}
+
+// One ray at a time.
+void BM_BvhIntersectField(benchmark::State& state) {
+  const scene::Scene field = *scene::builtin("field");
+  const render::PathScene scene(field.spheres);
+  const std::vector<render::Ray> rays = bounced_rays_in_field();
   std::size_t i = 0, hits = 0;
   for (auto _ : state) {
     render::SphereHit hit;
@@ -85,6 +93,45 @@ void BM_BvhIntersectField(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_BvhIntersectField);
+
+// The same rays two at a time, their walks interleaved (Bvh::intersect_pair); items are rays.
+void BM_BvhIntersectPairField(benchmark::State& state) {
+  const scene::Scene field = *scene::builtin("field");
+  const render::PathScene scene(field.spheres);
+  const std::vector<render::Ray> rays = bounced_rays_in_field();
+  std::size_t i = 0, hits = 0;
+  for (auto _ : state) {
+    const render::Ray pair[2] = {rays[i & 4095], rays[(i + 1) & 4095]};
+    i += 2;
+    render::SphereHit pair_hits[2];
+    hits += static_cast<std::size_t>(std::popcount(scene.bvh().intersect_pair(pair, render::kRayEpsilon, INFINITY, pair_hits)));
+  }
+  benchmark::DoNotOptimize(hits);
+  state.SetItemsProcessed(state.iterations() * 2);
+}
+BENCHMARK(BM_BvhIntersectPairField);
+
+// The field camera's rays (lens jitter included) in packets of a row's eight pixels (Bvh::intersect_packet);
+// items are rays.
+void BM_BvhIntersectPacketField(benchmark::State& state) {
+  const scene::Scene field = *scene::builtin("field");
+  const render::PathScene scene(field.spheres);
+  const render::ThinLensCamera camera(field.camera, 640, 360);
+  render::Rng rng(9);
+  std::vector<render::Ray> rays;
+  for (int row = 0; row < 360; row += 45)
+    for (int col = 0; col < 640; ++col) rays.push_back(camera.ray(col, row, rng));
+  std::size_t i = 0, hits = 0;
+  for (auto _ : state) {
+    render::Ray packet[render::Bvh::kWidth];
+    for (auto& r : packet) r = rays[i++ % rays.size()];
+    render::SphereHit packet_hits[render::Bvh::kWidth];
+    hits += static_cast<std::size_t>(std::popcount(scene.bvh().intersect_packet(packet, render::kRayEpsilon, INFINITY, packet_hits)));
+  }
+  benchmark::DoNotOptimize(hits);
+  state.SetItemsProcessed(state.iterations() * render::Bvh::kWidth);
+}
+BENCHMARK(BM_BvhIntersectPacketField);
 
 // A whole primary-ray frame, 640x480, one thread, over random-N.
 void BM_PrimaryFrame(benchmark::State& state) {
