@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace tripsitter::render {
@@ -387,35 +388,64 @@ Scene random_scene(std::mt19937& rng, std::size_t n, float extent) {
   return s;
 }
 
-TEST(Bvh, MatchesBruteForceOnRandomScenes) {
-  std::mt19937 rng(6);
+// Runs `check(scene, bvh, extent)`, which returns {hits, queries} of its comparisons, on `count` random scenes
+// (the first eight of 1 to 8 spheres, then of 1 to 2000), and expects a quarter of all queries to hit: the
+// comparisons are not vacuous.
+template <class Check>
+void on_random_scenes(std::mt19937& rng, int count, Check&& check) {
   int hits = 0, queries_total = 0;
-  for (int scene_index = 0; scene_index < 50; ++scene_index) {
+  for (int scene_index = 0; scene_index < count; ++scene_index) {
     const std::size_t n = scene_index < 8 ? static_cast<std::size_t>(scene_index + 1)
                                           : std::uniform_int_distribution<std::size_t>(1, 2000)(rng);
     const float extent = log_uniform(rng, 1.0f, 1000.0f);
     const Scene scene = random_scene(rng, n, extent);
     const Bvh bvh = Bvh::build(scene.centers, scene.radii);
     EXPECT_EQ(bvh.sphere_count(), n);
+    const auto [h, q] = check(scene, bvh, extent);
+    hits += h;
+    queries_total += q;
+  }
+  EXPECT_GT(hits, queries_total / 4);
+}
+
+// Queries answered `Group` at a time by `answer(rays, t_min, t_max, hits)`, which returns the lanes that hit
+// (every query of a group takes the first one's interval), held to brute force; returns {hits, queries}.
+template <int Group, class Answer>
+std::pair<int, int> expect_groups_match_brute_force(const Scene& scene, const Bvh& bvh, std::vector<Query> queries,
+                                                    Answer&& answer) {
+  std::vector<bool> found(queries.size());
+  std::vector<SphereHit> got(queries.size());
+  for (std::size_t i = 0; i + Group <= queries.size(); i += Group) {
+    for (std::size_t k = 1; k < Group; ++k) {
+      queries[i + k].t_min = queries[i].t_min;
+      queries[i + k].t_max = queries[i].t_max;
+    }
+    Ray rays[Group];
+    for (std::size_t k = 0; k < Group; ++k) rays[k] = queries[i + k].ray;
+    SphereHit hits[Group];
+    const unsigned lanes = answer(rays, queries[i].t_min, queries[i].t_max, hits);
+    for (std::size_t k = 0; k < Group; ++k) {
+      found[i + k] = (lanes >> k & 1) != 0;
+      got[i + k] = hits[k];
+    }
+  }
+  return {expect_matches_brute_force(scene, bvh, queries, found, got), static_cast<int>(queries.size())};
+}
+
+TEST(Bvh, MatchesBruteForceOnRandomScenes) {
+  std::mt19937 rng(6);
+  on_random_scenes(rng, 50, [&](const Scene& scene, const Bvh& bvh, float extent) {
     std::vector<Query> queries;
     for (int i = 0; i < 2000; ++i) queries.push_back(random_query(rng, scene, extent));
-    hits += expect_matches_brute_force(scene, bvh, queries);
-    queries_total += static_cast<int>(queries.size());
-  }
-  EXPECT_GT(hits, queries_total / 4);  // the comparison is not vacuous
+    return std::pair{expect_matches_brute_force(scene, bvh, queries), static_cast<int>(queries.size())};
+  });
 }
 
 // Packets of eight rays, as scattered as the single queries above or as close as a row of camera rays, get each
 // ray's own answer.
 TEST(Bvh, PacketsMatchBruteForce) {
   std::mt19937 rng(16);
-  int hits = 0, queries_total = 0;
-  for (int scene_index = 0; scene_index < 40; ++scene_index) {
-    const std::size_t n = scene_index < 8 ? static_cast<std::size_t>(scene_index + 1)
-                                          : std::uniform_int_distribution<std::size_t>(1, 2000)(rng);
-    const float extent = log_uniform(rng, 1.0f, 1000.0f);
-    const Scene scene = random_scene(rng, n, extent);
-    const Bvh bvh = Bvh::build(scene.centers, scene.radii);
+  on_random_scenes(rng, 40, [&](const Scene& scene, const Bvh& bvh, float extent) {
     std::vector<Query> queries;
     for (int packet = 0; packet < 200; ++packet) {
       const Query first = random_query(rng, scene, extent);
@@ -423,64 +453,28 @@ TEST(Bvh, PacketsMatchBruteForce) {
       for (int k = 0; k < Bvh::kWidth; ++k) {
         Query q = k == 0 || !coherent ? random_query(rng, scene, extent) : first;
         if (coherent) q.ray.dir = first.ray.dir + random_unit(rng) * (0.01f * length(first.ray.dir));
-        q.t_min = first.t_min;  // one interval per packet
-        q.t_max = first.t_max;
         queries.push_back(q);
       }
     }
-    std::vector<bool> found(queries.size());
-    std::vector<SphereHit> got(queries.size());
-    for (std::size_t i = 0; i < queries.size(); i += Bvh::kWidth) {
-      Ray rays[Bvh::kWidth];
-      for (int k = 0; k < Bvh::kWidth; ++k) rays[k] = queries[i + k].ray;
-      SphereHit packet_hits[Bvh::kWidth];
-      const unsigned lanes = bvh.intersect_packet(rays, queries[i].t_min, queries[i].t_max, packet_hits);
-      for (int k = 0; k < Bvh::kWidth; ++k) {
-        found[i + k] = (lanes >> k & 1) != 0;
-        got[i + k] = packet_hits[k];
-      }
-    }
-    hits += expect_matches_brute_force(scene, bvh, queries, found, got);
-    queries_total += static_cast<int>(queries.size());
-  }
-  EXPECT_GT(hits, queries_total / 4);
+    return expect_groups_match_brute_force<Bvh::kWidth>(
+        scene, bvh, queries, [&](const Ray(&rays)[Bvh::kWidth], float t_min, float t_max, SphereHit(&hits)[Bvh::kWidth]) {
+          return bvh.intersect_packet(rays, t_min, t_max, hits);
+        });
+  });
 }
 
 // Pairs of rays, their walks interleaved, get each ray's own answer: neighbours in the list are unrelated rays
 // whose walks end at different times.
 TEST(Bvh, PairsMatchBruteForce) {
   std::mt19937 rng(17);
-  int hits = 0, queries_total = 0;
-  for (int scene_index = 0; scene_index < 30; ++scene_index) {
-    const std::size_t n = scene_index < 8 ? static_cast<std::size_t>(scene_index + 1)
-                                          : std::uniform_int_distribution<std::size_t>(1, 2000)(rng);
-    const float extent = log_uniform(rng, 1.0f, 1000.0f);
-    const Scene scene = random_scene(rng, n, extent);
-    const Bvh bvh = Bvh::build(scene.centers, scene.radii);
+  on_random_scenes(rng, 30, [&](const Scene& scene, const Bvh& bvh, float extent) {
     std::vector<Query> queries;
-    for (int pair = 0; pair < 500; ++pair) {
-      const Query a = random_query(rng, scene, extent);
-      Query b = random_query(rng, scene, extent);
-      b.t_min = a.t_min;  // one interval per pair
-      b.t_max = a.t_max;
-      queries.push_back(a);
-      queries.push_back(b);
-    }
-    std::vector<bool> found(queries.size());
-    std::vector<SphereHit> got(queries.size());
-    for (std::size_t i = 0; i < queries.size(); i += 2) {
-      const Ray rays[2] = {queries[i].ray, queries[i + 1].ray};
-      SphereHit pair_hits[2];
-      const unsigned lanes = bvh.intersect_pair(rays, queries[i].t_min, queries[i].t_max, pair_hits);
-      for (std::size_t k = 0; k < 2; ++k) {
-        found[i + k] = (lanes >> k & 1) != 0;
-        got[i + k] = pair_hits[k];
-      }
-    }
-    hits += expect_matches_brute_force(scene, bvh, queries, found, got);
-    queries_total += static_cast<int>(queries.size());
-  }
-  EXPECT_GT(hits, queries_total / 4);
+    for (int i = 0; i < 1000; ++i) queries.push_back(random_query(rng, scene, extent));
+    return expect_groups_match_brute_force<2>(scene, bvh, queries,
+                                              [&](const Ray(&rays)[2], float t_min, float t_max, SphereHit(&hits)[2]) {
+                                                return bvh.intersect_pair(rays, t_min, t_max, hits);
+                                              });
+  });
 }
 
 TEST(Bvh, EmptyNeverHits) {
