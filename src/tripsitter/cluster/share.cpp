@@ -94,8 +94,10 @@ render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& sc
   std::exception_ptr error;
   std::jthread tracer([&] {
     try {
-      render::render_path_rows(scene, camera, settings, rank, size, image, [&](std::uint64_t n) {
-        traced.fetch_add(n, std::memory_order_relaxed);
+      const std::uint64_t row_samples =
+          static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp);
+      render::render_path_rows(scene, camera, settings, rank, size, image, [&](int) {
+        traced.fetch_add(row_samples, std::memory_order_relaxed);
         job.test_kill_point();
       });
     } catch (...) {

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <filesystem>
 
-#include <tripsitter/core/parallel.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/render/normal.h>
 
@@ -96,12 +95,11 @@ void App::render_frame() {
                              .seed = config_.seed + static_cast<std::uint64_t>(accumulated_spp_),
                              .threads = config_.threads, .sky = {}};
       if (pass_.pixels.size() != accumulated_.pixels.size()) pass_ = accumulated_;
-      render::render_path_rows(*path_scene_, render::ThinLensCamera(cam, kWidth, kHeight), s, 0, 1, pass_);
-      ++accumulated_spp_;
-      // Accumulated and encoded row by row on the tracing threads: one thread alone took a tenth of a frame.
       if (frame_.width != kWidth || frame_.height != kHeight) frame_ = core::ImageRgb8(kWidth, kHeight);
+      ++accumulated_spp_;
       const float scale = 1.0f / static_cast<float>(accumulated_spp_);
-      core::parallel_for(0, kHeight, config_.threads, [&](int row) {
+      // Each row is added to the sum and encoded by the thread that traced it, while it is in cache.
+      render::render_path_rows(*path_scene_, render::ThinLensCamera(cam, kWidth, kHeight), s, 0, 1, pass_, [&](int row) {
         const std::size_t first = static_cast<std::size_t>(row) * kWidth;
         for (std::size_t i = first; i < first + kWidth; ++i) accumulated_.pixels[i] += pass_.pixels[i];
         render::encode_srgb8(&accumulated_.pixels[first], kWidth, scale, &frame_.pixels[3 * first]);

@@ -135,7 +135,7 @@ std::array<Rng, sizeof...(I)> group_streams(const RngStreams& streams, std::uint
 template <class Query>
 void render_rows_over(const PathScene& scene, const Query& query, const ThinLensCamera& camera,
                       const PathSettings& settings, int first, int step, ImageRgbF& image,
-                      const std::function<void(std::uint64_t)>& on_samples) {
+                      const std::function<void(int)>& on_row) {
   const int rows = first < settings.height ? (settings.height - first + step - 1) / step : 0;
   const float inv_spp = 1.0f / static_cast<float>(settings.spp);
   core::parallel_for(0, rows, settings.threads, [&](int k) {
@@ -177,7 +177,7 @@ void render_rows_over(const PathScene& scene, const Query& query, const ThinLens
       }
       for (int i = 0; i < used; ++i) pixels[col0 + i] = sum[i] * inv_spp;
     }
-    if (on_samples) on_samples(static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp));
+    if (on_row) on_row(row);
   });
 }
 
@@ -193,14 +193,17 @@ Vec3f trace_path(const PathScene& scene, Ray ray, int max_depth, const Sky& sky,
 }
 
 void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings, int first,
-                      int step, ImageRgbF& image, const std::function<void(std::uint64_t)>& on_samples) {
-  render_rows_over(scene, scene.bvh(), camera, settings, first, step, image, on_samples);
+                      int step, ImageRgbF& image, const std::function<void(int)>& on_row) {
+  render_rows_over(scene, scene.bvh(), camera, settings, first, step, image, on_row);
 }
 
 ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
                       const std::function<void(std::uint64_t)>& on_samples) {
   ImageRgbF image = blank_image(settings);
-  render_rows_over(scene, scene.bvh(), camera, settings, 0, 1, image, on_samples);
+  const std::uint64_t row_samples = static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp);
+  render_rows_over(scene, scene.bvh(), camera, settings, 0, 1, image, [&](int) {
+    if (on_samples) on_samples(row_samples);
+  });
   return image;
 }
 

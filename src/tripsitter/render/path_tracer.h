@@ -79,9 +79,10 @@ ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, cons
 
 // Renders only rows first, first + step, first + 2 step, ... of the image into `image` (sized width x height;
 // other rows are left as they are). Every pixel gets exactly the value render_path gives it, whatever the
-// split: a job can share an image's rows among processes. REQUIRES 0 <= first, step >= 1.
+// split: a job can share an image's rows among processes. `on_row(row)` is called, from the worker thread
+// that traced it, as each row is written (width x spp samples). REQUIRES 0 <= first, step >= 1.
 void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings, int first,
-                      int step, ImageRgbF& image, const std::function<void(std::uint64_t)>& on_samples = {});
+                      int step, ImageRgbF& image, const std::function<void(int)>& on_row = {});
 
 // A closest-hit query in place of the scene's BVH, with Bvh::intersect's contract, so that other tracers can be
 // measured on exactly the path tracer's work (`tripsitter bench` runs it over Embree and over brute force).

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <mutex>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -367,6 +368,16 @@ TEST(PathTracer, ProgressCountsEverySample) {
   render_path(PathScene(spheres), ThinLensCamera(looking_at_origin(), 20, 10), s,
               [&](std::uint64_t n) { samples += n; });
   EXPECT_EQ(samples.load(), 20u * 10u * 3u);
+  // A share of the rows reports each of its rows once, and no other.
+  std::mutex mutex;
+  std::vector<int> rows;
+  ImageRgbF image{20, 10, std::vector<Vec3f>(200)};
+  render_path_rows(PathScene(spheres), ThinLensCamera(looking_at_origin(), 20, 10), s, 1, 3, image, [&](int row) {
+    const std::lock_guard lock(mutex);
+    rows.push_back(row);
+  });
+  std::sort(rows.begin(), rows.end());
+  EXPECT_EQ(rows, (std::vector<int>{1, 4, 7}));
 }
 
 TEST(Srgb, EncodesTheStandardCurve) {
