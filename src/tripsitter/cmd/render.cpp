@@ -283,13 +283,11 @@ int run_path_still(const RenderOptions& o, const scene::Scene& scene, const Path
     image = trace(path_scene, camera, s, [&](std::uint64_t n) { bar.add(n); });
   }
   if (!writes) return kExitOk;
-  const auto t2 = std::chrono::steady_clock::now();
+  const double trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   if (!o.quiet) {
     std::fprintf(stderr, "path: %zu spheres, BVH built in %.3f s; %dx%d at %d spp in %.2f s (%.2f Msamples/s)%s\n",
                  path_scene.size(), std::chrono::duration<double>(t1 - t0).count(), s.width, s.height, s.spp,
-                 std::chrono::duration<double>(t2 - t1).count(),
-                 static_cast<double>(samples_of(s)) / std::chrono::duration<double>(t2 - t1).count() / 1e6,
-                 where.c_str());
+                 trace_seconds, static_cast<double>(samples_of(s)) / trace_seconds / 1e6, where.c_str());
   }
   write_image(o.out, render::to_srgb8(image));
   return kExitOk;

@@ -23,6 +23,7 @@ namespace tripsitter::render {
 namespace {
 
 #include <tripsitter/render/simd8.h>
+#include <tripsitter/render/sphere_lanes.h>
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
@@ -427,30 +428,14 @@ KernelRay8 broadcast(const KernelRay& r, float t_min) {
 }
 
 // sphere_root on a leaf's spheres at once: bit k of the result is set when sphere k offers a root beyond t_min,
-// which is then t[k]. The same operations as sphere_root, lane by lane; unused lanes (NaN centres) never hit.
+// which is then t[k]. Unused lanes (NaN centres) never hit.
 inline unsigned sphere_roots(const KernelRay8& ray, const Bvh::Leaf& leaf, float t[kWidth]) {
-  const F8 ocx = ray.ox - F8::load(leaf.cx);
-  const F8 ocy = ray.oy - F8::load(leaf.cy);
-  const F8 ocz = ray.oz - F8::load(leaf.cz);
   const F8 radius = F8::load(leaf.radius);
-  const F8 dx = ray.dx, dy = ray.dy, dz = ray.dz;
-  const F8 b = ocx * dx + ocy * dy + ocz * dz;
-  const F8 scale = b * ray.inv_dir_len2;
-  const F8 fx = ocx - dx * scale, fy = ocy - dy * scale, fz = ocz - dz * scale;
-  const F8 r2 = radius * radius;
-  const F8 disc = ray.dir_len2 * (r2 - (fx * fx + fy * fy + fz * fz));
-  const F8 zero = F8::set1(0.0f);
-  const F8 real = disc >= zero;  // false for NaN, as !(disc >= 0) in sphere_root
-  if (real.bits() == 0) return 0;
-  const F8 q = (b + copysign(sqrt(disc), b)) ^ F8::set1(-0.0f);
-  const F8 c = (ocx * ocx + ocy * ocy + ocz * ocz) - r2;
-  const F8 q_near = q * ray.inv_dir_len2;
-  const F8 q_far = (q != zero) & (c / q);
-  const F8 swap = q_far < q_near;
-  const F8 t_near = select(swap, q_far, q_near), t_far = select(swap, q_near, q_far);
-  const F8 chosen = select(t_near > ray.t_min, t_near, t_far);
-  chosen.store(t);
-  return static_cast<unsigned>((real & (chosen > ray.t_min)).bits());
+  const LaneRoots roots = sphere_lanes(ray.ox - F8::load(leaf.cx), ray.oy - F8::load(leaf.cy),
+                                       ray.oz - F8::load(leaf.cz), ray.dx, ray.dy, ray.dz, ray.dir_len2,
+                                       ray.inv_dir_len2, radius * radius, ray.t_min);
+  roots.t.store(t);
+  return static_cast<unsigned>(roots.hit.bits());
 }
 
 // Leaves in a structure of arrays, one per leaf child of the binary tree, replacing that child's `first` (a range
@@ -680,15 +665,16 @@ RayPacket make_packet(const Ray (&rays)[kWidth]) {
 unsigned Bvh::intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_max, SphereHit (&hits)[kWidth]) const {
   if (nodes_.empty()) return 0;
   const RayPacket p = make_packet(rays);
-  const F8 vt_min = F8::set1(t_min), pad = F8::set1(kExitPad), zero = F8::set1(0.0f), sign = F8::set1(-0.0f);
-  F8 best_t = F8::set1(t_max);
+  const F8 vt_min = F8::set1(t_min), pad = F8::set1(kExitPad);
+  alignas(32) float best_t[kWidth];
+  F8::set1(t_max).store(best_t);
   alignas(32) float best_id[kWidth] = {};  // original index of each lane's best sphere, as float bits
-  F8 found = zero;                          // all ones in lanes that hit
+  unsigned found = 0;                       // lanes that hit
 
   // The lanes of a ray-box test: entry and exit by the slab method, the planes chosen by each lane's direction
   // signs as make_slab_ray chooses them, NaN (0 * inf) ignored as in enter_children.
   const auto enter = [&](const Node& n, int k, F8& t_enter) {
-    F8 t0 = vt_min, t1 = best_t;
+    F8 t0 = vt_min, t1 = F8::load(best_t);
     for (int a = 0; a < 3; ++a) {
       const F8 lo = F8::set1(n.bounds[2 * a][k]), hi = F8::set1(n.bounds[2 * a + 1][k]);
       const F8 near = select(p.negative[a], hi, lo), far = select(p.negative[a], lo, hi);
@@ -698,41 +684,13 @@ unsigned Bvh::intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_m
     t_enter = t0;
     return (t0 <= t1).bits();
   };
-  // The kernel of sphere_root in every lane, for one sphere of a leaf.
+  // One sphere of a leaf against every lane's ray.
   const auto test_sphere = [&](const Leaf& leaf, int i) {
-    const F8 ocx = p.origin[0] - F8::set1(leaf.cx[i]);
-    const F8 ocy = p.origin[1] - F8::set1(leaf.cy[i]);
-    const F8 ocz = p.origin[2] - F8::set1(leaf.cz[i]);
-    const F8 dx = p.dir[0], dy = p.dir[1], dz = p.dir[2];
-    const F8 b = ocx * dx + ocy * dy + ocz * dz;
-    const F8 scale = b * p.inv_dir_len2;
-    const F8 fx = ocx - dx * scale, fy = ocy - dy * scale, fz = ocz - dz * scale;
-    const F8 r2 = F8::set1(leaf.radius[i] * leaf.radius[i]);
-    const F8 disc = p.dir_len2 * (r2 - (fx * fx + fy * fy + fz * fz));
-    const F8 real = disc >= zero;
-    if (real.bits() == 0) return;
-    const F8 q = (b + copysign(sqrt(disc), b)) ^ sign;
-    const F8 c = (ocx * ocx + ocy * ocy + ocz * ocz) - r2;
-    const F8 q_near = q * p.inv_dir_len2;
-    const F8 q_far = (q != zero) & (c / q);
-    const F8 swap = q_far < q_near;
-    const F8 t_near = select(swap, q_far, q_near), t_far = select(swap, q_near, q_far);
-    const F8 t = select(t_near > vt_min, t_near, t_far);
-    const F8 valid = real & (t > vt_min);
-    const F8 closer = valid & (t < best_t);
-    const std::uint32_t original = leaf.original[i];
-    if (closer.bits() != 0) {
-      best_t = select(closer, t, best_t);
-      select(closer, F8::set1(std::bit_cast<float>(original)), F8::load(best_id)).store(best_id);
-      found = found | closer;
-    }
-    // Equal t: the lower original index wins, as in intersect.
-    if (const int ties = (valid & (t == best_t)).bits(); ties != 0) {
-      for (int k = 0; k < kWidth; ++k) {
-        if ((ties >> k & 1) && original < std::bit_cast<std::uint32_t>(best_id[k]))
-          best_id[k] = std::bit_cast<float>(original);
-      }
-    }
+    const LaneRoots roots = sphere_lanes(p.origin[0] - F8::set1(leaf.cx[i]), p.origin[1] - F8::set1(leaf.cy[i]),
+                                         p.origin[2] - F8::set1(leaf.cz[i]), p.dir[0], p.dir[1], p.dir[2],
+                                         p.dir_len2, p.inv_dir_len2, F8::set1(leaf.radius[i] * leaf.radius[i]), vt_min);
+    if (roots.hit.bits() != 0)
+      found |= static_cast<unsigned>(keep_nearest(roots.hit, roots.t, leaf.original[i], best_t, best_id));
   };
 
   struct Pending {
@@ -742,12 +700,10 @@ unsigned Bvh::intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_m
   Pending stack[(kWidth - 1) * kStackSize + 1];
   int size = 0;
   stack[size++] = {0, t_min};
-  alignas(32) float lanes[kWidth];
   while (size > 0) {
     const Pending pending = stack[--size];
     // Skipped when every lane has a hit nearer than where the packet first enters the box.
-    best_t.store(lanes);
-    if (pending.t_enter > *std::max_element(lanes, lanes + kWidth)) continue;
+    if (pending.t_enter > *std::max_element(best_t, best_t + kWidth)) continue;
     const Node& n = nodes_[pending.node];
     float key[kWidth];
     int order[kWidth];
@@ -781,12 +737,10 @@ unsigned Bvh::intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_m
       stack[size++] = {n.first[order[j]], key[j]};
     }
   }
-  const unsigned hit_lanes = static_cast<unsigned>(found.bits());
-  best_t.store(lanes);
   for (int k = 0; k < kWidth; ++k) {
-    if (hit_lanes >> k & 1) hits[k] = {lanes[k], std::bit_cast<std::uint32_t>(best_id[k])};
+    if (found >> k & 1) hits[k] = {best_t[k], std::bit_cast<std::uint32_t>(best_id[k])};
   }
-  return hit_lanes;
+  return found;
 }
 
 std::size_t Bvh::sphere_count() const { return spheres_; }

@@ -103,17 +103,11 @@ core::ImageRgb8 EmbreeScene::render_primary(const ThinLensCamera& camera, const 
   RTCScene scene = state_->scene;
   if (packet == EmbreePacket::k1) {
     core::parallel_for(0, s.height, s.threads, [&](int row) {
-      RTCIntersectContext context;
-      rtcInitIntersectContext(&context);
       for (int col = 0; col < s.width; ++col) {
         const Ray ray = camera.centre_ray(col, row);
-        RTCRayHit rh;
-        rh.ray = {ray.origin.x, ray.origin.y, ray.origin.z, 0.0f, ray.dir.x, ray.dir.y, ray.dir.z, 0.0f, kInf,
-                  0xffffffffu, 0, 0};
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene, &context, &rh);
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-        shade_primary(scene_, ray, {rh.ray.tfar, rh.hit.primID},
+        SphereHit hit;
+        if (!intersect(ray, 0.0f, kInf, hit)) continue;
+        shade_primary(scene_, ray, hit,
                       &image.pixels[3 * (static_cast<std::size_t>(row) * static_cast<std::size_t>(s.width) +
                                          static_cast<std::size_t>(col))]);
       }

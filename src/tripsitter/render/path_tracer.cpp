@@ -86,18 +86,9 @@ Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int m
 // divisions and branches.
 constexpr int kGroup = Bvh::kWidth;
 
-unsigned first_hits(const Bvh& bvh, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
-  return bvh.intersect_packet(rays, kRayEpsilon, INFINITY, hits);
-}
-
-unsigned first_hits(const HitQuery& query, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
-  unsigned lanes = 0;
-  for (int k = 0; k < kGroup; ++k) lanes |= query.intersect(rays[k], kRayEpsilon, INFINITY, hits[k]) ? 1u << k : 0u;
-  return lanes;
-}
-
-// The hits of the bounced rays of the live lanes: two at a time for the BVH (Bvh::intersect_pair).
-unsigned next_hits(const Bvh& bvh, unsigned live, Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+// The hits of the bounced rays of the live lanes: two at a time for the BVH (Bvh::intersect_pair), one at a time
+// for a HitQuery.
+unsigned next_hits(const Bvh& bvh, unsigned live, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
   unsigned found = 0;
   while (live != 0) {
     const int i = std::countr_zero(live);
@@ -118,13 +109,24 @@ unsigned next_hits(const Bvh& bvh, unsigned live, Ray (&rays)[kGroup], SphereHit
   return found;
 }
 
-unsigned next_hits(const HitQuery& query, unsigned live, Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+unsigned next_hits(const HitQuery& query, unsigned live, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
   unsigned found = 0;
   for (; live != 0; live &= live - 1) {
     const int i = std::countr_zero(live);
     found |= query.intersect(rays[i], kRayEpsilon, INFINITY, hits[i]) ? 1u << i : 0u;
   }
   return found;
+}
+
+// The hits of a group's camera rays: one packet for the BVH (Bvh::intersect_packet), ray by ray for a HitQuery.
+constexpr unsigned kAllLanes = (1u << kGroup) - 1;
+
+unsigned first_hits(const Bvh& bvh, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+  return bvh.intersect_packet(rays, kRayEpsilon, INFINITY, hits);
+}
+
+unsigned first_hits(const HitQuery& query, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+  return next_hits(query, kAllLanes, rays, hits);
 }
 
 template <std::size_t... I>

@@ -20,6 +20,7 @@ namespace tripsitter::render {
 namespace {
 
 #include <tripsitter/render/simd8.h>
+#include <tripsitter/render/sphere_lanes.h>
 
 constexpr int kTile = 8;
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -126,44 +127,17 @@ class Tile {
     for (const Plane& p : sides_) {
       if (!p.reaches(offset, radius)) return false;
     }
-    // The scalar kernel's per-sphere terms: oc = origin - center, c = |oc|^2 - r^2.
+    // The scalar kernel's per-sphere terms: oc = origin - center.
     const Vec3f oc = eye_ - center;
-    const float r2 = radius * radius;
-    const F8 ocx = F8::set1(oc.x), ocy = F8::set1(oc.y), ocz = F8::set1(oc.z), vr2 = F8::set1(r2);
-    const F8 c = F8::set1(core::dot(oc, oc) - r2);
-    const F8 zero = F8::set1(0.0f), sign = F8::set1(-0.0f);
-    const F8 id = F8::set1(std::bit_cast<float>(index));
+    const F8 ocx = F8::set1(oc.x), ocy = F8::set1(oc.y), ocz = F8::set1(oc.z), r2 = F8::set1(radius * radius);
+    const F8 zero = F8::set1(0.0f);
     bool updated = false;
     for (int r = 0; r < kTile; ++r) {
       const Plane& row = rows_[r];
       if (std::abs(core::dot(row.normal, offset)) > radius * row.norm + kPlaneMargin * row.norm * l1(offset)) continue;
-      const F8 dx = F8::load(dx_[r]), dy = F8::load(dy_[r]), dz = F8::load(dz_[r]);
-      const F8 b = ocx * dx + ocy * dy + ocz * dz;
-      const F8 scale = b * F8::load(inv_a_[r]);
-      const F8 fx = ocx - dx * scale, fy = ocy - dy * scale, fz = ocz - dz * scale;
-      const F8 disc = F8::load(a_[r]) * (vr2 - (fx * fx + fy * fy + fz * fz));
-      const F8 real = disc >= zero;
-      if (real.bits() == 0) continue;
-      const F8 q = (b + copysign(sqrt(disc), b)) ^ sign;
-      const F8 q_near = q * F8::load(inv_a_[r]);
-      const F8 q_far = select(q != zero, c / q, zero);
-      const F8 swap = q_far < q_near;
-      const F8 t_near = select(swap, q_far, q_near), t_far = select(swap, q_near, q_far);
-      const F8 t = select(t_near > zero, t_near, t_far);
-      const F8 best = F8::load(t_[r]);
-      const F8 valid = real & (t > zero);
-      const F8 closer = valid & (t < best);
-      if (closer.bits() != 0) {
-        select(closer, t, best).store(t_[r]);
-        select(closer, id, F8::load(id_[r])).store(id_[r]);
-        updated = true;
-      }
-      // Equal t: the lower sphere index wins, as when every sphere is tested in index order.
-      if (const int ties = (valid & (t == best)).bits(); ties != 0) {
-        for (int k = 0; k < kTile; ++k) {
-          if ((ties >> k & 1) && index < std::bit_cast<std::uint32_t>(id_[r][k])) id_[r][k] = std::bit_cast<float>(index);
-        }
-      }
+      const LaneRoots roots = sphere_lanes(ocx, ocy, ocz, F8::load(dx_[r]), F8::load(dy_[r]), F8::load(dz_[r]),
+                                           F8::load(a_[r]), F8::load(inv_a_[r]), r2, zero);
+      if (roots.hit.bits() != 0) updated |= keep_nearest(roots.hit, roots.t, index, t_[r], id_[r]) != 0;
     }
     return updated;
   }
