@@ -663,7 +663,6 @@ RayPacket make_packet(const Ray (&rays)[kWidth]) {
 }  // namespace
 
 unsigned Bvh::intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_max, SphereHit (&hits)[kWidth]) const {
-  if (nodes_.empty()) return 0;
   const RayPacket p = make_packet(rays);
   const F8 vt_min = F8::set1(t_min), pad = F8::set1(kExitPad);
   alignas(32) float best_t[kWidth];
@@ -671,72 +670,39 @@ unsigned Bvh::intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_m
   alignas(32) float best_id[kWidth] = {};  // original index of each lane's best sphere, as float bits
   unsigned found = 0;                       // lanes that hit
 
-  // The lanes of a ray-box test: entry and exit by the slab method, the planes chosen by each lane's direction
-  // signs as make_slab_ray chooses them, NaN (0 * inf) ignored as in enter_children.
-  const auto enter = [&](const Node& n, int k, F8& t_enter) {
+  // The tree walked once for all lanes (traverse): a box is entered when some lane enters it, its distance the
+  // nearest entry among those lanes, and skipped when every lane has a hit nearer than that.
+  const auto reach = [&](const float lo[3], const float hi[3]) {
+    // The slab method lane by lane, the planes chosen by each lane's direction signs as make_slab_ray chooses
+    // them, NaN (0 * inf) ignored as in enter_children.
     F8 t0 = vt_min, t1 = F8::load(best_t);
     for (int a = 0; a < 3; ++a) {
-      const F8 lo = F8::set1(n.bounds[2 * a][k]), hi = F8::set1(n.bounds[2 * a + 1][k]);
-      const F8 near = select(p.negative[a], hi, lo), far = select(p.negative[a], lo, hi);
+      const F8 near = select(p.negative[a], F8::set1(hi[a]), F8::set1(lo[a]));
+      const F8 far = select(p.negative[a], F8::set1(lo[a]), F8::set1(hi[a]));
       t0 = max((near - p.origin[a]) * p.inv_dir[a], t0);
       t1 = min((far - p.origin[a]) * p.inv_dir[a] * pad, t1);
     }
-    t_enter = t0;
-    return (t0 <= t1).bits();
-  };
-  // One sphere of a leaf against every lane's ray.
-  const auto test_sphere = [&](const Leaf& leaf, int i) {
-    const LaneRoots roots = sphere_lanes(p.origin[0] - F8::set1(leaf.cx[i]), p.origin[1] - F8::set1(leaf.cy[i]),
-                                         p.origin[2] - F8::set1(leaf.cz[i]), p.dir[0], p.dir[1], p.dir[2],
-                                         p.dir_len2, p.inv_dir_len2, F8::set1(leaf.radius[i] * leaf.radius[i]), vt_min);
-    if (roots.hit.bits() != 0)
-      found |= static_cast<unsigned>(keep_nearest(roots.hit, roots.t, leaf.original[i], best_t, best_id));
-  };
-
-  struct Pending {
-    std::uint32_t node;
-    float t_enter;  // the nearest any lane enters the node's box
-  };
-  Pending stack[(kWidth - 1) * kStackSize + 1];
-  int size = 0;
-  stack[size++] = {0, t_min};
-  while (size > 0) {
-    const Pending pending = stack[--size];
-    // Skipped when every lane has a hit nearer than where the packet first enters the box.
-    if (pending.t_enter > *std::max_element(best_t, best_t + kWidth)) continue;
-    const Node& n = nodes_[pending.node];
-    float key[kWidth];
-    int order[kWidth];
-    int nodes = 0;
-    for (int k = 0; k < kWidth; ++k) {
-      if (n.count[k] == 0) continue;
-      F8 t_enter;
-      const int entering = enter(n, k, t_enter);
-      if (entering == 0) continue;
-      if (n.count[k] != Node::kInner) {
-        for (std::uint32_t i = 0; i < n.count[k]; ++i) test_sphere(leaves_[n.first[k]], static_cast<int>(i));
-        continue;
-      }
-      // Ordered by the nearest entry among the lanes that enter, nearest last so that it is popped first.
-      alignas(32) float entries[kWidth];
-      t_enter.store(entries);
-      float nearest = std::numeric_limits<float>::infinity();
-      for (int lane = 0; lane < kWidth; ++lane) {
-        if (entering >> lane & 1) nearest = std::min(nearest, entries[lane]);
-      }
-      int j = nodes++;
-      for (; j > 0 && key[j - 1] < nearest; --j) {
-        key[j] = key[j - 1];
-        order[j] = order[j - 1];
-      }
-      key[j] = nearest;
-      order[j] = k;
+    const int entering = (t0 <= t1).bits();
+    alignas(32) float entries[kWidth];
+    t0.store(entries);
+    float nearest = std::numeric_limits<float>::infinity();
+    for (int lane = 0; lane < kWidth; ++lane) {
+      if (entering >> lane & 1) nearest = std::min(nearest, entries[lane]);
     }
-    for (int j = 0; j < nodes; ++j) {
-      assert(size < (kWidth - 1) * kStackSize + 1);
-      stack[size++] = {n.first[order[j]], key[j]};
+    return nearest;
+  };
+  const auto limit = [&] { return *std::max_element(best_t, best_t + kWidth); };
+  // Each sphere of a leaf against every lane's ray.
+  const auto leaf = [&](const Leaf& l, std::uint32_t count) {
+    for (std::uint32_t i = 0; i < count; ++i) {
+      const LaneRoots roots = sphere_lanes(p.origin[0] - F8::set1(l.cx[i]), p.origin[1] - F8::set1(l.cy[i]),
+                                           p.origin[2] - F8::set1(l.cz[i]), p.dir[0], p.dir[1], p.dir[2],
+                                           p.dir_len2, p.inv_dir_len2, F8::set1(l.radius[i] * l.radius[i]), vt_min);
+      if (roots.hit.bits() != 0)
+        found |= static_cast<unsigned>(keep_nearest(roots.hit, roots.t, l.original[i], best_t, best_id));
     }
-  }
+  };
+  traverse(reach, limit, leaf);
   for (int k = 0; k < kWidth; ++k) {
     if (found >> k & 1) hits[k] = {best_t[k], std::bit_cast<std::uint32_t>(best_id[k])};
   }

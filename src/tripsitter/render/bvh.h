@@ -98,7 +98,7 @@ void Bvh::traverse(Reach&& reach, Limit&& limit, LeafVisit&& leaf) const {
   };
   Pending stack[(kWidth - 1) * kMaxDepth + 1];
   int size = 0;
-  stack[size++] = {0, Node::kInner, 0.0f};
+  stack[size++] = {0, Node::kInner, -std::numeric_limits<float>::infinity()};  // the root is always visited
   while (size > 0) {
     const Pending p = stack[--size];
     if (p.distance > limit()) continue;
