@@ -42,12 +42,9 @@ class Bvh {
 
   // The closest hits of kWidth rays at once, each as intersect(rays[k], t_min, t_max, hits[k]) finds it, ties
   // aside; bit k of the result is set when rays[k] hits. For rays that travel together, such as a row of camera
-  // rays: they share one walk of the tree and each step serves all of them.
+  // rays, or start near each other, such as their bounces: they share one walk of the tree and each step serves
+  // all of them.
   unsigned intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_max, SphereHit (&hits)[kWidth]) const;
-
-  // The closest hits of two rays, each as intersect finds it, their walks of the tree interleaved so that the
-  // processor works on one while the other waits on its loads and branches. Bit k of the result: rays[k] hits.
-  unsigned intersect_pair(const Ray (&rays)[2], float t_min, float t_max, SphereHit (&hits)[2]) const;
 
   std::size_t sphere_count() const;
   std::size_t node_count() const;

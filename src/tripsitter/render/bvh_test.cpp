@@ -463,20 +463,6 @@ TEST(Bvh, PacketsMatchBruteForce) {
   });
 }
 
-// Pairs of rays, their walks interleaved, get each ray's own answer: neighbours in the list are unrelated rays
-// whose walks end at different times.
-TEST(Bvh, PairsMatchBruteForce) {
-  std::mt19937 rng(17);
-  on_random_scenes(rng, 30, [&](const Scene& scene, const Bvh& bvh, float extent) {
-    std::vector<Query> queries;
-    for (int i = 0; i < 1000; ++i) queries.push_back(random_query(rng, scene, extent));
-    return expect_groups_match_brute_force<2>(scene, bvh, queries,
-                                              [&](const Ray(&rays)[2], float t_min, float t_max, SphereHit(&hits)[2]) {
-                                                return bvh.intersect_pair(rays, t_min, t_max, hits);
-                                              });
-  });
-}
-
 TEST(Bvh, EmptyNeverHits) {
   const Bvh bvh = Bvh::build({}, {});
   EXPECT_EQ(bvh.sphere_count(), 0u);

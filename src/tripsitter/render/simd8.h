@@ -43,6 +43,8 @@ struct F8 {
   friend F8 select(F8 mask, F8 a, F8 b) { return {_mm256_blendv_ps(b.v, a.v, mask.v)}; }
   // One bit per lane of a mask.
   int bits() const { return _mm256_movemask_ps(v); }
+  // The smallest lane (REQUIRES no NaN lane).
+  float min_lane() const { return min4(_mm_min_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1))); }
 #else
   __m128 lo, hi;
   static F8 load(const float* p) { return {_mm_load_ps(p), _mm_load_ps(p + 4)}; }  // REQUIRES p 16-byte aligned
@@ -73,7 +75,14 @@ struct F8 {
             _mm_or_ps(_mm_and_ps(mask.hi, a.hi), _mm_andnot_ps(mask.hi, b.hi))};
   }
   int bits() const { return _mm_movemask_ps(lo) | (_mm_movemask_ps(hi) << 4); }
+  float min_lane() const { return min4(_mm_min_ps(lo, hi)); }
 #endif
+  // The smallest of four floats.
+  static float min4(__m128 m) {
+    m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+    return _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps(m, m, 1)));
+  }
+
   // The magnitude of a with the sign of b, lane by lane (std::copysign).
   friend F8 copysign(F8 a, F8 b) {
     const F8 sign = set1(-0.0f);
