@@ -67,51 +67,75 @@ BENCHMARK(BM_DecodeV2)->Arg(64)->Arg(4096);
 
 }  // namespace
 
-// Closest-hit queries of the path tracer's bounced kind: random origins in the field scene's grid, random
-// directions.
-std::vector<render::Ray> bounced_rays_in_field() {
-  render::Rng rng(7);
-  std::vector<render::Ray> rays(4096);
-  for (auto& r : rays) {
-    r.origin = {22 * rng.uniform() - 11, 0.5f * rng.uniform(), 22 * rng.uniform() - 11};
-    r.dir = rng.unit_vector();
+// The path tracer's bounced rays as it makes them: every ray a 160x90 one-sample render of `field` asks of a
+// HitQuery (render_path's HitQuery form traces them one at a time), recorded, without the camera rays. Their
+// order keeps the render's: each round of a group's live paths together, so neighbours start near each other.
+class RecordingQuery final : public render::HitQuery {
+ public:
+  explicit RecordingQuery(const render::Bvh& bvh) : bvh_(bvh) {}
+  bool intersect(const render::Ray& ray, float t_min, float t_max, render::SphereHit& hit) const override {
+    rays_.push_back(ray);
+    return bvh_.intersect(ray, t_min, t_max, hit);
   }
-  return rays;
+  std::vector<render::Ray>& rays() const { return rays_; }
+
+ private:
+  const render::Bvh& bvh_;
+  mutable std::vector<render::Ray> rays_;
+};
+
+std::vector<render::Ray> bounced_rays_of_field(const render::PathScene& scene, const scene::Scene& field) {
+  const render::PathSettings s{.width = 160, .height = 90, .spp = 1, .max_depth = 50, .seed = 1, .threads = 1, .sky = {}};
+  const render::ThinLensCamera camera(field.camera, s.width, s.height);
+  const RecordingQuery recorder(scene.bvh());
+  render::render_path(scene, recorder, camera, s);
+  // Camera rays start on the lens, within 0.1 of lookfrom (its radius is 0.05); no sphere comes that near.
+  std::vector<render::Ray> bounced;
+  const render::Vec3f lens{static_cast<float>(field.camera.lookfrom.x), static_cast<float>(field.camera.lookfrom.y),
+                   static_cast<float>(field.camera.lookfrom.z)};
+  for (const render::Ray& r : recorder.rays()) {
+    const render::Vec3f d = r.origin - lens;
+    if (core::dot(d, d) > 0.01f) bounced.push_back(r);
+  }
+  return bounced;
 }
 
-// One ray at a time.
-void BM_BvhIntersectField(benchmark::State& state) {
+// One ray at a time (Bvh::intersect); items are rays.
+void BM_BvhBouncedRaysField(benchmark::State& state) {
   const scene::Scene field = *scene::builtin("field");
   const render::PathScene scene(field.spheres);
-  const std::vector<render::Ray> rays = bounced_rays_in_field();
+  const std::vector<render::Ray> rays = bounced_rays_of_field(scene, field);
   std::size_t i = 0, hits = 0;
   for (auto _ : state) {
     render::SphereHit hit;
-    hits += scene.intersect(rays[i++ & 4095], render::kRayEpsilon, INFINITY, hit) ? 1 : 0;
+    hits += scene.intersect(rays[i], render::kRayEpsilon, INFINITY, hit) ? 1 : 0;
+    i = i + 1 == rays.size() ? 0 : i + 1;
   }
   benchmark::DoNotOptimize(hits);
   state.SetItemsProcessed(state.iterations());
+  state.counters["rays_per_sample"] = static_cast<double>(rays.size()) / (160 * 90);
 }
-BENCHMARK(BM_BvhIntersectField);
+BENCHMARK(BM_BvhBouncedRaysField);
 
-// The same rays eight at a time in one packet (Bvh::intersect_packet), as unrelated as rays get: the path
-// tracer's bounced rays start nearer each other than these. Items are rays.
-void BM_BvhIntersectPacketBouncedField(benchmark::State& state) {
+// The same rays eight neighbours at a time in one packet (Bvh::intersect_packet); items are rays.
+void BM_BvhBouncedRaysPacketField(benchmark::State& state) {
   const scene::Scene field = *scene::builtin("field");
   const render::PathScene scene(field.spheres);
-  const std::vector<render::Ray> rays = bounced_rays_in_field();
+  const std::vector<render::Ray> rays = bounced_rays_of_field(scene, field);
+  const std::size_t packets = rays.size() / render::Bvh::kWidth;
   std::size_t i = 0, hits = 0;
   for (auto _ : state) {
     render::Ray packet[render::Bvh::kWidth];
-    for (auto& r : packet) r = rays[i++ & 4095];
+    for (int k = 0; k < render::Bvh::kWidth; ++k) packet[k] = rays[i * render::Bvh::kWidth + static_cast<std::size_t>(k)];
     render::SphereHit packet_hits[render::Bvh::kWidth];
     hits += static_cast<std::size_t>(
         std::popcount(scene.bvh().intersect_packet(packet, render::kRayEpsilon, INFINITY, packet_hits)));
+    i = i + 1 == packets ? 0 : i + 1;
   }
   benchmark::DoNotOptimize(hits);
   state.SetItemsProcessed(state.iterations() * render::Bvh::kWidth);
 }
-BENCHMARK(BM_BvhIntersectPacketBouncedField);
+BENCHMARK(BM_BvhBouncedRaysPacketField);
 
 // The field camera's rays (lens jitter included) in packets of a row's eight pixels (Bvh::intersect_packet);
 // items are rays.
