@@ -526,30 +526,16 @@ Bvh Bvh::build(std::span<const Vec3f> centers, std::span<const float> radii) {
   return bvh;
 }
 
-// One ray's walk of the tree, one node per step().
-struct Bvh::Walk {
-  const Bvh& bvh;
-  KernelRay8 kray;
-  SlabRay sray;
-  float best_t;
+bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const {
+  if (nodes_.empty()) return false;
+  const KernelRay8 kray = broadcast(make_kernel_ray(ray), t_min);
+  const SlabRay sray = make_slab_ray(ray);
+  float best_t = t_max;
   std::uint32_t best = 0;  // original index of the best sphere
   bool found = false;
-  bool done;
-  std::uint32_t node = 0;
-  // Nodes waiting to be visited and the t at which the ray enters their boxes; leaves are tested when met.
-  struct Pending {
-    std::uint32_t node;
-    float t_enter;
-  };
-  int size = 0;
-  Pending stack[(kWidth - 1) * kStackSize + 1];
 
-  Walk(const Bvh& b, const Ray& ray, float t_min, float t_max)
-      : bvh(b), kray(broadcast(make_kernel_ray(ray), t_min)), sray(make_slab_ray(ray)), best_t(t_max),
-        done(b.nodes_.empty()) {}
-
-  void visit_leaf(std::uint32_t leaf_index) {
-    const Leaf& leaf = bvh.leaves_[leaf_index];
+  const auto visit_leaf = [&](std::uint32_t leaf_index) {
+    const Leaf& leaf = leaves_[leaf_index];
     alignas(32) float t[kWidth];
     for (unsigned hits = sphere_roots(kray, leaf, t); hits != 0; hits &= hits - 1) {
       const int k = __builtin_ctz(hits);
@@ -561,13 +547,19 @@ struct Bvh::Walk {
         found = true;
       }
     }
-  }
+  };
 
-  // Visits `node`: tests its children, the leaves among them at once, and moves on to the next node, or
-  // finishes. Inlined into the loop that calls it: as a call, its prologue and epilogue (six registers saved and
-  // restored, the stack realigned for the SIMD arrays) cost a fifth of its instructions.
-  [[gnu::always_inline]] void step() {
-    const Node& n = bvh.nodes_[node];
+  // Nodes waiting to be visited and the t at which the ray enters their boxes; leaves are tested when met.
+  struct Pending {
+    std::uint32_t node;
+    float t_enter;
+  };
+  Pending stack[(kWidth - 1) * kStackSize + 1];
+  int size = 0;
+  std::uint32_t node = 0;
+  for (;;) {
+    // Each visit tests the node's children, the leaves among them at once, and moves on to the next node.
+    const Node& n = nodes_[node];
     alignas(32) float t_enter[kWidth];
     // Inclusive of best_t so that exact ties are still seen.
     unsigned enters = enter_children(n.bounds, sray, kray.t_min, best_t, t_enter);
@@ -581,7 +573,7 @@ struct Bvh::Walk {
       }
 #if defined(__GNUC__)
       // Start fetching the node while the others are sorted: most node visits miss the cache on big scenes.
-      __builtin_prefetch(&bvh.nodes_[n.first[k]]);
+      __builtin_prefetch(&nodes_[n.first[k]]);
 #endif
       int j = nodes++;
       for (; j > 0 && t_enter[order[j - 1]] < t_enter[k]; --j) order[j] = order[j - 1];
@@ -594,27 +586,15 @@ struct Bvh::Walk {
     }
     if (nodes > 0 && t_enter[order[nodes - 1]] <= best_t) {
       node = n.first[order[nodes - 1]];
-      return;
+      continue;
     }
     // Otherwise resume with the nearest pending node still in range.
     while (size > 0 && stack[size - 1].t_enter > best_t) --size;
-    if (size == 0) {
-      done = true;
-      return;
-    }
+    if (size == 0) break;
     node = stack[--size].node;
   }
-
-  bool result(SphereHit& hit) const {
-    if (found) hit = {best_t, best};
-    return found;
-  }
-};
-
-bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const {
-  Walk walk(*this, ray, t_min, t_max);
-  while (!walk.done) walk.step();
-  return walk.result(hit);
+  if (found) hit = {best_t, best};
+  return found;
 }
 
 namespace {

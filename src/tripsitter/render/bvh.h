@@ -70,7 +70,6 @@ class Bvh {
 
  private:
   // Implementation state, free to change; see bvh.cpp for the layout's reasons and invariants.
-  struct Walk;  // one ray's walk of the tree (bvh.cpp)
 
   // A node holds the boxes of its up to kWidth children, one axis and side per row, so that one SIMD operation
   // tests all of them against a ray. A child is another node or a leaf. Built as a binary tree and collapsed

@@ -87,29 +87,29 @@ Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int m
 constexpr int kGroup = Bvh::kWidth;
 constexpr int kMinPacket = 6;  // live paths for a packet: on `field`, 4 traced slower and 8 no faster
 
-// The hits of the bounced rays of the live lanes. Dead lanes of a packet trace a copy of a live lane's ray.
-unsigned next_hits(const Bvh& bvh, unsigned live, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
-  if (std::popcount(live) >= kMinPacket) {
-    const Ray& spare = rays[std::countr_zero(live)];
-    Ray packet[kGroup];
-    for (int i = 0; i < kGroup; ++i) packet[i] = live >> i & 1 ? rays[i] : spare;
-    return bvh.intersect_packet(packet, kRayEpsilon, INFINITY, hits) & live;
-  }
-  unsigned found = 0;
-  for (; live != 0; live &= live - 1) {
-    const int i = std::countr_zero(live);
-    found |= bvh.intersect(rays[i], kRayEpsilon, INFINITY, hits[i]) ? 1u << i : 0u;
-  }
-  return found;
-}
-
-unsigned next_hits(const HitQuery& query, unsigned live, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+// The hits of the rays of the live lanes, one ray at a time.
+template <class Query>
+unsigned hits_one_by_one(const Query& query, unsigned live, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
   unsigned found = 0;
   for (; live != 0; live &= live - 1) {
     const int i = std::countr_zero(live);
     found |= query.intersect(rays[i], kRayEpsilon, INFINITY, hits[i]) ? 1u << i : 0u;
   }
   return found;
+}
+
+// The hits of the bounced rays of the live lanes: one packet for the BVH while kMinPacket lanes live (dead lanes
+// trace a copy of a live lane's ray), else ray by ray.
+unsigned next_hits(const Bvh& bvh, unsigned live, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+  if (std::popcount(live) < kMinPacket) return hits_one_by_one(bvh, live, rays, hits);
+  const Ray& spare = rays[std::countr_zero(live)];
+  Ray packet[kGroup];
+  for (int i = 0; i < kGroup; ++i) packet[i] = live >> i & 1 ? rays[i] : spare;
+  return bvh.intersect_packet(packet, kRayEpsilon, INFINITY, hits) & live;
+}
+
+unsigned next_hits(const HitQuery& query, unsigned live, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+  return hits_one_by_one(query, live, rays, hits);
 }
 
 // The hits of a group's camera rays: one packet for the BVH (Bvh::intersect_packet), ray by ray for a HitQuery.
@@ -120,7 +120,7 @@ unsigned first_hits(const Bvh& bvh, const Ray (&rays)[kGroup], SphereHit (&hits)
 }
 
 unsigned first_hits(const HitQuery& query, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
-  return next_hits(query, kAllLanes, rays, hits);
+  return hits_one_by_one(query, kAllLanes, rays, hits);
 }
 
 template <std::size_t... I>
