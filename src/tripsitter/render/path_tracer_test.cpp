@@ -361,6 +361,44 @@ TEST(PathTracer, BruteForceQueryTracesTheSameImage) {
   }
 }
 
+// The reference for the renderer's lanes: every pixel the mean of its samples, each one path traced alone by
+// trace_path from a camera ray, with the pixel's own random stream, bit for bit. Rows whose width is no multiple of
+// a group, a defocused camera, every material and branch (fuzz 0 and more, index of refraction 1 and more, rays
+// inside glass), and paths cut at max_depth.
+void expect_each_pixel_traced_alone(const scene::Scene& sc, int width, int height, int spp, int max_depth) {
+  const PathScene scene(sc.spheres);
+  const ThinLensCamera cam(sc.camera, width, height);
+  const PathSettings s{.width = width, .height = height, .spp = spp, .max_depth = max_depth, .seed = 3, .threads = 2,
+                       .sky = {}};
+  const ImageRgbF image = render_path(scene, cam, s);
+  const RngStreams streams(s.seed);
+  for (int row = 0; row < height; ++row) {
+    for (int col = 0; col < width; ++col) {
+      const std::uint64_t item = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(width) +
+                                 static_cast<std::uint64_t>(col);
+      Rng rng = streams.stream(item);
+      Vec3f sum{0, 0, 0};
+      for (int k = 0; k < spp; ++k) sum += trace_path(scene, cam.ray(col, row, rng), max_depth, s.sky, rng);
+      const Vec3f expected = sum * (1.0f / static_cast<float>(spp));
+      const Vec3f& got = image.pixels[item];
+      ASSERT_EQ(got.x, expected.x) << "pixel " << col << "," << row;
+      ASSERT_EQ(got.y, expected.y) << "pixel " << col << "," << row;
+      ASSERT_EQ(got.z, expected.z) << "pixel " << col << "," << row;
+    }
+  }
+}
+
+TEST(PathTracer, EveryPixelIsTheMeanOfItsPathsTracedAlone) {
+  expect_each_pixel_traced_alone(*scene::builtin("field"), 37, 21, 3, 50);
+  scene::Scene sc;
+  sc.camera = looking_at_origin();
+  sc.spheres = {sphere({0, -101, 0}, 100, lambertian(0.6)), sphere({-2.2, 0, 0}, 1, metal(0.9, 0)),
+                sphere({0, 0, 0}, 1, glass(1.5)),            sphere({2.2, 0, 0}, 1, metal(0.8, 0.4)),
+                sphere({0, 1.6, 1}, 0.6, glass(1.0)),        sphere({0, 0, 0}, 0.8, glass(1.0 / 1.5))};  // a shell
+  expect_each_pixel_traced_alone(sc, 29, 19, 2, 50);
+  expect_each_pixel_traced_alone(sc, 29, 19, 2, 2);
+}
+
 TEST(PathTracer, ProgressCountsEverySample) {
   const std::vector<scene::Sphere> spheres{sphere({0, 0, 0}, 1, lambertian(0.5))};
   std::atomic<std::uint64_t> samples{0};
