@@ -237,5 +237,20 @@ TEST(Board, CameraMovesChangeTheFrameTheWayTheKeySays) {
   EXPECT_EQ(after.image.at(320 - 32 * 320 / 400, 240), core::Rgb444(0x770));
 }
 
+// The window's normal mode on the built-in scenes, as the host sends them: the fast renderer draws the reference's
+// image, mirrors included (the `field` scene has 488 spheres, metals among them, and a ground 1000 times their size).
+TEST(Board, FastNormalFramesEqualTheReferenceOnTheBuiltInScenes) {
+  for (const char* name : {"demo", "cluster", "field"}) {
+    Board b(*scene::builtin(name), {});
+    b.host().camera().orbit(0.3);
+    const auto& spheres = b.host().update().view_spheres;
+    for (int bounces : {0, 3}) {
+      EXPECT_EQ(render::render_normal_fast(spheres, 320, 240, bounces).pixels,
+                render::render_normal(spheres, 320, 240, bounces).pixels)
+          << name << ", " << bounces << " bounces";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace tripsitter::board

@@ -126,7 +126,8 @@ int run_animation(const RenderOptions& o, scene::Scene scene, const device::Devi
       write_quietly(file, shown.image);
       rgb = core::to_rgb8(shown.image);
     } else if (o.mode == "normal") {
-      const core::Image444 img = render::render_normal(b.host().update().view_spheres, width, height, preset.max_bounces);
+      const core::Image444 img =
+          render::render_normal_fast(b.host().update().view_spheres, width, height, preset.max_bounces, o.threads);
       write_quietly(file, img);
       rgb = core::to_rgb8(img);
     } else {
@@ -209,7 +210,7 @@ int run_render(const RenderOptions& o) {
     const auto& world = host.update();
     const int width = o.width != 0 ? o.width : scene.render.width;
     const int height = o.height != 0 ? o.height : scene.render.height;
-    write_image(o.out, render::render_normal(world.view_spheres, width, height, preset.max_bounces));
+    write_image(o.out, render::render_normal_fast(world.view_spheres, width, height, preset.max_bounces, o.threads));
     return kExitOk;
   }
   VcdCapture vcd(o.vcd, o.lines);
@@ -392,7 +393,8 @@ void add_render_command(CLI::App& app, Action& run) {
       ->check(CLI::Range(1, scene::kMaxDepth));
   cmd->add_option("--seed", o->seed, "path only: random seed; the same seed gives the same image on any thread count")
       ->capture_default_str();
-  cmd->add_option("--threads", o->threads, "path only: worker threads (default: all)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--threads", o->threads, "normal and path modes: worker threads (default: all)")
+      ->check(CLI::Range(1, 1024));
   cmd->add_flag("--quiet", o->quiet, "No progress bar or summary on stderr");
   cmd->add_option("--frames", o->frames,
                   "Render an animation of N frames; --out is then a pattern such as DIR/frame_%04d.png")

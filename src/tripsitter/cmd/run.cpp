@@ -63,7 +63,7 @@ void add_run_command(CLI::App& app, Action& run) {
   cmd->add_option("--scale", o->scale, "Window size as a multiple of 640x480")->capture_default_str()->check(CLI::Range(1, 8));
   cmd->add_option("--screenshot-dir", o->screenshot_dir, "Where F12 writes tripsitter-N.png")->capture_default_str();
   cmd->add_option("--seed", o->seed, "path: random seed")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "path: worker threads (default: all)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--threads", o->threads, "normal and path modes: worker threads (default: all)")->check(CLI::Range(1, 1024));
   cmd->add_option("--frames", o->frames, "Quit after this many frames (default: run until Esc)");
   cmd->callback([o, &run] { run = [o] { return run_run(*o); }; });
 }

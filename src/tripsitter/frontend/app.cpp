@@ -77,7 +77,8 @@ void App::render_frame() {
     }
     case Mode::kNormal: {
       const host::ReadyWorld& world = board_.host().update();
-      frame444_ = render::render_normal(world.view_spheres, kWidth, kHeight, config_.preset.max_bounces);
+      frame444_ = render::render_normal_fast(world.view_spheres, kWidth, kHeight, config_.preset.max_bounces,
+                                             config_.threads);
       info_.saturations = world.saturations.total();
       frame_ = core::to_rgb8(frame444_);
       break;

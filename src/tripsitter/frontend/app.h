@@ -27,7 +27,7 @@ struct AppConfig {
   link::WireVersion wire = link::WireVersion::kV2;
   std::string screenshot_dir = ".";
   std::uint64_t seed = 1;      // path mode
-  int threads = 0;             // path mode, 0: all
+  int threads = 0;             // normal and path modes, 0: all
   host::ControlSpeeds speeds;
 };
 

@@ -47,4 +47,11 @@ inline std::uint8_t albedo_byte(double a) {
 // REQUIRES 0 <= max_bounces <= core::kMaxBounces.
 core::Image444 render_normal(std::span<const scene::Sphere> view_spheres, int width, int height, int max_bounces = 0);
 
+// The same image as render_normal, bit for bit, made faster: each 8x8 tile of camera rays tests only the spheres
+// that can meet it (screen-space bounds, see normal.cpp), and rows of tiles are shared among `threads` threads
+// (0: all). Reflected rays test every sphere, as in render_normal. The window's and `render`'s normal mode.
+// REQUIRES 0 <= max_bounces <= core::kMaxBounces.
+core::Image444 render_normal_fast(std::span<const scene::Sphere> view_spheres, int width, int height,
+                                  int max_bounces = 0, int threads = 0);
+
 }  // namespace tripsitter::render

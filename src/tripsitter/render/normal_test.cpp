@@ -1,6 +1,7 @@
 #include <tripsitter/render/normal.h>
 
 #include <cmath>
+#include <random>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -111,6 +112,74 @@ TEST(RenderMirror, RejectsABounceCutOffBeyondTheLimit) {
   const std::vector<scene::Sphere> world{sphere(0, 0, 400, 64)};
   EXPECT_THROW(render_normal(world, 64, 48, core::kMaxBounces + 1), std::invalid_argument);
   EXPECT_THROW(render_normal(world, 64, 48, -1), std::invalid_argument);
+}
+
+// --- The fast renderer against the reference ---
+
+// Random view-space worlds of every kind the culling must get right: spheres in front, behind, beside the eye
+// (across the plane z = 0, where the screen bounds wrap), around the eye, tiny and far, huge, and metals.
+std::vector<scene::Sphere> random_world(std::mt19937& gen) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int n = 1 + static_cast<int>(unit(gen) * 40);
+  std::vector<scene::Sphere> world;
+  for (int i = 0; i < n; ++i) {
+    const double kind = unit(gen);
+    scene::Sphere s;
+    if (kind < 0.6) {  // in front, any size
+      s = sphere(1200 * unit(gen) - 600, 900 * unit(gen) - 450, 2000 * unit(gen) - 100, std::exp(6 * unit(gen)));
+    } else if (kind < 0.75) {  // beside or behind the eye
+      s = sphere(1200 * unit(gen) - 600, 600 * unit(gen) - 300, 300 * unit(gen) - 250, 5 + 100 * unit(gen));
+    } else if (kind < 0.85) {  // tiny and far
+      s = sphere(4e4 * unit(gen) - 2e4, 3e4 * unit(gen) - 1.5e4, 1e5 + 1e5 * unit(gen), 0.5 + 20 * unit(gen));
+    } else if (kind < 0.95) {  // a huge ground below or above
+      s = sphere(0, (unit(gen) < 0.5 ? 1 : -1) * (1e6 + 200 * unit(gen)), 500 * unit(gen), 1e6);
+    } else {  // around the eye
+      s = sphere(20 * unit(gen) - 10, 20 * unit(gen) - 10, 20 * unit(gen) - 10, 50 + 500 * unit(gen));
+    }
+    if (unit(gen) < 0.4) s.material = {scene::MaterialType::kMetal, {unit(gen), unit(gen), unit(gen)}, 0.0, 1.5};
+    world.push_back(s);
+  }
+  return world;
+}
+
+TEST(RenderNormalFast, EqualsTheReferenceOnRandomWorlds) {
+  std::mt19937 gen(20261121);
+  struct Size {
+    int width, height;
+  };
+  const Size sizes[] = {{640, 480}, {37, 21}, {64, 48}, {1, 1}, {200, 330}};
+  for (int world_index = 0; world_index < 60; ++world_index) {
+    const std::vector<scene::Sphere> world = random_world(gen);
+    const Size size = sizes[world_index % std::size(sizes)];
+    const int bounces = world_index % (core::kMaxBounces + 1);
+    const int threads = 1 + world_index % 2;
+    ASSERT_EQ(render_normal_fast(world, size.width, size.height, bounces, threads).pixels,
+              render_normal(world, size.width, size.height, bounces).pixels)
+        << "world " << world_index << " (" << world.size() << " spheres), " << size.width << "x" << size.height
+        << ", " << bounces << " bounces";
+  }
+}
+
+// Spheres whose outline passes exactly through a pixel's ray, where the kernel's discriminant is decided by
+// rounding alone; and radii one ulp either side.
+TEST(RenderNormalFast, EqualsTheReferenceOnGrazingSpheres) {
+  std::vector<scene::Sphere> world;
+  for (int k = 0; k < 24; ++k) {
+    const core::Vec3d d{double(37 * k % 640 - 320), double(23 * k % 480 - 240), 320.0};  // pixel (37k, 23k)'s ray
+    const core::Vec3d c{d.x + 90.0 * (k % 5) - 180.0, d.y + 50.0 * (k % 3) - 50.0, 300.0 + 97.0 * k};
+    // The centre's distance from the ray's line: |c x d| / |d|.
+    const core::Vec3d cross{c.y * d.z - c.z * d.y, c.z * d.x - c.x * d.z, c.x * d.y - c.y * d.x};
+    const double r = std::sqrt(dot(cross, cross) / dot(d, d));
+    const double radius = k % 3 == 0 ? r : std::nextafter(r, k % 3 == 1 ? 0.0 : 1e300);
+    if (radius > 0) world.push_back(sphere(c.x, c.y, c.z, radius));
+  }
+  ASSERT_FALSE(world.empty());
+  EXPECT_EQ(render_normal_fast(world, 640, 480, 0, 2).pixels, render_normal(world, 640, 480, 0).pixels);
+}
+
+TEST(RenderNormalFast, RejectsABounceCutOffBeyondTheLimit) {
+  const std::vector<scene::Sphere> world{sphere(0, 0, 400, 64)};
+  EXPECT_THROW(render_normal_fast(world, 64, 48, core::kMaxBounces + 1), std::invalid_argument);
 }
 
 }  // namespace
