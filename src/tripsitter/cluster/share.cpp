@@ -70,10 +70,8 @@ render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& sc
   render::ImageRgbF image{settings.width, settings.height,
                           std::vector<render::Vec3f>(static_cast<std::size_t>(settings.width) *
                                                      static_cast<std::size_t>(settings.height))};
-  const std::uint64_t samples_per_row =
-      static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp);
   const auto samples_of = [&](int r) {
-    return static_cast<std::uint64_t>(rows_of(r, size, settings.height)) * samples_per_row;
+    return static_cast<std::uint64_t>(rows_of(r, size, settings.height)) * settings.row_samples();
   };
 
   // Rank 0 posts its receives before tracing, so the other ranks' rows land in the image whenever they come.
@@ -94,10 +92,8 @@ render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& sc
   std::exception_ptr error;
   std::jthread tracer([&] {
     try {
-      const std::uint64_t row_samples =
-          static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp);
       render::render_path_rows(scene, camera, settings, rank, size, image, [&](int) {
-        traced.fetch_add(row_samples, std::memory_order_relaxed);
+        traced.fetch_add(settings.row_samples(), std::memory_order_relaxed);
         job.test_kill_point();
       });
     } catch (...) {

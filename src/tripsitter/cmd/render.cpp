@@ -100,7 +100,7 @@ void report(const board::ShownFrame& f) {
 
 // Samples of a whole image.
 std::uint64_t samples_of(const render::PathSettings& s) {
-  return static_cast<std::uint64_t>(s.width) * static_cast<std::uint64_t>(s.height) * static_cast<std::uint64_t>(s.spp);
+  return s.row_samples() * static_cast<std::uint64_t>(s.height);
 }
 
 // --frames N --orbit DEG: the camera circles its target by DEG over the N frames (frame i at i * DEG / N,

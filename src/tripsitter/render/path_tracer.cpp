@@ -196,9 +196,8 @@ void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, cons
 ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
                       const std::function<void(std::uint64_t)>& on_samples) {
   ImageRgbF image = blank_image(settings);
-  const std::uint64_t row_samples = static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.spp);
   render_rows_over(scene, scene.bvh(), camera, settings, 0, 1, image, [&](int) {
-    if (on_samples) on_samples(row_samples);
+    if (on_samples) on_samples(settings.row_samples());
   });
   return image;
 }

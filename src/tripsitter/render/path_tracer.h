@@ -57,6 +57,11 @@ struct PathSettings {
   std::uint64_t seed = 1;
   int threads = 0;        // 0: all hardware threads
   Sky sky;
+
+  // Samples in one row of the image: width * spp.
+  std::uint64_t row_samples() const {
+    return static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(spp);
+  }
 };
 
 // Linear radiance per pixel, the mean of its samples.
