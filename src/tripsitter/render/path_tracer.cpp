@@ -112,15 +112,14 @@ unsigned next_hits(const HitQuery& query, unsigned live, const Ray (&rays)[kGrou
   return hits_one_by_one(query, live, rays, hits);
 }
 
-// The hits of a group's camera rays: one packet for the BVH (Bvh::intersect_packet), ray by ray for a HitQuery.
-constexpr unsigned kAllLanes = (1u << kGroup) - 1;
-
-unsigned first_hits(const Bvh& bvh, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
-  return bvh.intersect_packet(rays, kRayEpsilon, INFINITY, hits);
+// The hits of the camera rays of a group's lanes in `used`: one packet of all kGroup lanes for the BVH
+// (Bvh::intersect_packet; lanes past `used` hold copies of a used lane's ray), ray by ray for a HitQuery.
+unsigned first_hits(const Bvh& bvh, unsigned used, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+  return bvh.intersect_packet(rays, kRayEpsilon, INFINITY, hits) & used;
 }
 
-unsigned first_hits(const HitQuery& query, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
-  return hits_one_by_one(query, kAllLanes, rays, hits);
+unsigned first_hits(const HitQuery& query, unsigned used, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
+  return hits_one_by_one(query, used, rays, hits);
 }
 
 template <std::size_t... I>
@@ -145,8 +144,9 @@ void render_rows_over(const PathScene& scene, const Query& query, const ThinLens
     for (int col0 = 0; col0 < width; col0 += kGroup) {
       // Each pixel keeps its own stream, drawn in the order a pixel alone draws it: camera ray, then bounces, one
       // sample after the other; so the image is the same as tracing pixel by pixel. Lanes past the row's end
-      // trace a copy of the first lane's camera ray and are dropped.
+      // hold a copy of the first lane's camera ray, for the BVH's packet, and are dropped.
       const int used = std::min(kGroup, width - col0);
+      const unsigned used_lanes = (1u << used) - 1;
       std::array<Rng, kGroup> rng =
           group_streams(streams, row_start + static_cast<std::uint64_t>(col0), std::make_index_sequence<kGroup>());
       Vec3f sum[kGroup] = {};
@@ -154,10 +154,10 @@ void render_rows_over(const PathScene& scene, const Query& query, const ThinLens
         Ray ray[kGroup];
         for (int i = 0; i < kGroup; ++i) ray[i] = i < used ? camera.ray(col0 + i, row, rng[i]) : ray[0];
         SphereHit hit[kGroup];
-        unsigned found = first_hits(query, ray, hit);  // bit i: ray[i] hits, at hit[i]
+        unsigned found = first_hits(query, used_lanes, ray, hit);  // bit i: ray[i] hits, at hit[i]
         Vec3f throughput[kGroup];
         for (Vec3f& t : throughput) t = {1, 1, 1};
-        unsigned alive = (1u << used) - 1;
+        unsigned alive = used_lanes;
         for (int depth = 1; alive != 0; ++depth) {
           for (unsigned live = alive; live != 0; live &= live - 1) {
             const int i = std::countr_zero(live);
