@@ -47,22 +47,24 @@ void BM_DeviceLine(benchmark::State& state) {
 }
 BENCHMARK(BM_DeviceLine)->Arg(1)->Arg(16)->Arg(64);
 
-void BM_NormalReferenceFrame(benchmark::State& state) {
+// One 640x480 frame of a random world of N spheres, as the host sends it, drawn by `draw`.
+template <class Draw>
+void normal_frame(benchmark::State& state, const Draw& draw) {
   host::Host h(scene::random_spheres(static_cast<int>(state.range(0)), 1), board::formats_of(device::wide_preset()),
                link::WireVersion::kV2);
   const auto& world = h.update();
-  for (auto _ : state) benchmark::DoNotOptimize(render::render_normal(world.view_spheres, 640, 480));
+  for (auto _ : state) benchmark::DoNotOptimize(draw(world.view_spheres));
   state.SetItemsProcessed(state.iterations() * 640 * 480);
+}
+
+void BM_NormalReferenceFrame(benchmark::State& state) {
+  normal_frame(state, [](const auto& spheres) { return render::render_normal(spheres, 640, 480); });
 }
 BENCHMARK(BM_NormalReferenceFrame)->Arg(1)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond);
 
 // The window's normal mode: the same frame by render_normal_fast, on one thread.
 void BM_NormalFastFrame(benchmark::State& state) {
-  host::Host h(scene::random_spheres(static_cast<int>(state.range(0)), 1), board::formats_of(device::wide_preset()),
-               link::WireVersion::kV2);
-  const auto& world = h.update();
-  for (auto _ : state) benchmark::DoNotOptimize(render::render_normal_fast(world.view_spheres, 640, 480, 0, 1));
-  state.SetItemsProcessed(state.iterations() * 640 * 480);
+  normal_frame(state, [](const auto& spheres) { return render::render_normal_fast(spheres, 640, 480, 0, 1); });
 }
 BENCHMARK(BM_NormalFastFrame)->Arg(1)->Arg(16)->Arg(64)->Arg(488)->Unit(benchmark::kMillisecond);
 
