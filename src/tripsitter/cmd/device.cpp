@@ -7,7 +7,7 @@
 #include <tripsitter/device/device.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/frontend/window.h>
-#include <tripsitter/link/stream.h>
+#include <tripsitter/transport/stream.h>
 
 #include "commands.h"
 #include "common.h"
@@ -95,7 +95,7 @@ int run_device(const DeviceOptions& o) {
   if (!o.headless && !o.out_dir.empty()) throw InputError("--out-dir goes with --headless (the window shows the frames)");
   const link::WireVersion wire = parse_wire(o.wire);
   const device::DevicePreset preset = load_preset(o.preset, o.workers);
-  auto address = link::parse_stream_address(o.listen);
+  auto address = transport::parse_stream_address(o.listen);
   if (!address) throw InputError("--listen: " + address.error().message);
   if (o.headless) {
     std::error_code ec;
@@ -105,8 +105,8 @@ int run_device(const DeviceOptions& o) {
   }
 
   device::Device dev(preset, wire);
-  auto port = link::StreamPort::listen(address.value(), [&dev](const link::StreamPortEvent& e) {
-    using Kind = link::StreamPortEvent::Kind;
+  auto port = transport::StreamPort::listen(address.value(), [&dev](const transport::StreamPortEvent& e) {
+    using Kind = transport::StreamPortEvent::Kind;
     switch (e.kind) {
       case Kind::kConnected:
         std::cerr << "device: host " << e.peer << " connected\n";

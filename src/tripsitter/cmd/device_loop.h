@@ -10,7 +10,8 @@
 
 #include <tripsitter/core/image.h>
 #include <tripsitter/device/device.h>
-#include <tripsitter/link/stream.h>
+#include <tripsitter/link/stream_protocol.h>
+#include <tripsitter/transport/stream.h>
 
 namespace tripsitter::cmd {
 
@@ -81,7 +82,7 @@ struct DeviceLoopResult {
 // capture goes to the sink, and only then may the port send the credit that tells the host its world
 // was taken; so a host that has seen its last world taken knows the sink already has a frame of it.
 // Between frames the loop sleeps until the next frame is due, serving the port meanwhile.
-DeviceLoopResult run_device_loop(device::Device& device, link::StreamPort& port, FrameSink& sink,
+DeviceLoopResult run_device_loop(device::Device& device, transport::StreamPort& port, FrameSink& sink,
                                  const DeviceLoopConfig& config, const volatile std::sig_atomic_t& stop);
 
 }  // namespace tripsitter::cmd

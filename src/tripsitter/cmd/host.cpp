@@ -8,8 +8,8 @@
 #include <tripsitter/board/board.h>
 #include <tripsitter/host/host.h>
 #include <tripsitter/host/key_script.h>
-#include <tripsitter/link/stream.h>
 #include <tripsitter/scene/builtin.h>
+#include <tripsitter/transport/stream.h>
 
 #include "commands.h"
 #include "common.h"
@@ -38,7 +38,7 @@ std::vector<host::KeyAction> load_script(const std::string& path) {
 }
 
 // A failure once connected: the message on stderr, exit 1.
-int lost(const link::StreamError& e) {
+int lost(const transport::StreamError& e) {
   std::cerr << "tripsitter: " << e.message << "\n";
   return kExitInternal;
 }
@@ -48,17 +48,17 @@ int run_host(const HostOptions& o) {
   const device::DevicePreset preset = load_preset(o.preset, 0);
   scene::Scene scene = load_scene(o.scene);
   std::vector<host::KeyAction> actions = load_script(o.keys);
-  auto address = link::parse_stream_address(o.connect);
+  auto address = transport::parse_stream_address(o.connect);
   if (!address) throw InputError("--connect: " + address.error().message);
   const auto timeout = std::chrono::milliseconds(static_cast<std::int64_t>(o.timeout_s * 1000));
 
   std::signal(SIGPIPE, SIG_IGN);
-  auto socket = link::connect_stream(address.value(), timeout);
+  auto socket = transport::connect_stream(address.value(), timeout);
   if (!socket)
     throw InputError(socket.error().message + " (is `tripsitter device --listen " + address.value().to_string() +
                      "` running?)");
   const std::string peer = address.value().to_string();
-  link::StreamSender sender(std::move(socket).value(), peer, o.transfer_bytes, timeout);
+  transport::StreamSender sender(std::move(socket).value(), peer, o.transfer_bytes, timeout);
 
   const std::int64_t ticks = host::total_ticks(actions);
   std::cerr << "host: connected to " << peer << "; " << actions.size() << " key actions, " << ticks << " ticks ("
@@ -67,7 +67,7 @@ int run_host(const HostOptions& o) {
 
   host::Host h(std::move(scene), board::formats_of(preset), wire);
   host::KeyScriptPlayer player(std::move(actions));
-  using Clock = link::StreamClock;
+  using Clock = transport::StreamClock;
   const auto tick = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / host::kScriptTicksPerSecond));
   const auto start = Clock::now();
   // Tick 0 is the scene as loaded; every tick of the script makes a newer world.
@@ -90,7 +90,7 @@ int run_host(const HostOptions& o) {
   if (last.spheres_dropped > 0)
     std::cerr << "host: " << last.spheres_dropped << " spheres beyond the device's scene memory were not sent\n";
   if (s.worlds_rejected > 0) std::cerr << "host: the device rejected " << s.worlds_rejected << " worlds\n";
-  if (answer.value() == link::WorldAnswer::kRejected) {
+  if (answer.value() == transport::WorldAnswer::kRejected) {
     std::cerr << "tripsitter: the device at " << peer << " rejected the last world (sequence " << last.sequence
               << "); do --wire and --preset match the device's?\n";
     return kExitInternal;

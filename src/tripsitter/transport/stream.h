@@ -1,16 +1,8 @@
-// The link over a real byte stream (TCP): host and device as two programs (docs/link_format.md, "Over a byte
-// stream").
-//
-// Host to device: exactly the link bytes (v1 words or v2 frames), written in transfers of at most
-// max_transfer_bytes. Device to host: the ready line as single bytes. The device sends a credit, 'R', when
-// its ready line is high and nothing it granted this host is outstanding: on connect (if ready), after the
-// host's last world was swapped into scene memory, and ('X' instead of 'R') after it was rejected. The host
-// sends one world per credit; a newer world replaces one not yet sent. So the host never sends a world the
-// device is not ready for, at most one world is in flight, and neither side ever waits on the other while
-// holding what the other needs.
-//
-// The device serves one host at a time: a second host is refused with 'B' and its connection closed.
-// Plain POSIX sockets; every write uses MSG_NOSIGNAL, so a vanished peer is an error value, never SIGPIPE.
+// The link over TCP: host and device as two programs joined by a stream socket (docs/link_format.md, "Over
+// a byte stream"). What the bytes mean (the credit bytes, the credit rule, the device's endpoint) is
+// link/stream_protocol.h; this library moves them: addresses, sockets, the host's sender and the device's
+// port. Plain POSIX sockets; every write uses MSG_NOSIGNAL, so a vanished peer is an error value, never
+// SIGPIPE.
 #pragma once
 
 #include <chrono>
@@ -25,14 +17,9 @@
 #include <vector>
 
 #include <tripsitter/core/result.h>
-#include <tripsitter/link/spi.h>
+#include <tripsitter/link/stream_protocol.h>
 
-namespace tripsitter::link {
-
-// The back channel, device to host: one byte each.
-inline constexpr std::uint8_t kStreamReady = 'R';     // ready; the host's last world, if any, was taken
-inline constexpr std::uint8_t kStreamRejected = 'X';  // ready; the host's last world was rejected
-inline constexpr std::uint8_t kStreamBusy = 'B';      // another host is connected; this connection closes
+namespace tripsitter::transport {
 
 using StreamClock = std::chrono::steady_clock;
 
@@ -142,16 +129,6 @@ class StreamSender {
 // ---------------------------------------------------------------------------------------------------------
 // Device side: the device's end of the link, serving one host at a time.
 
-// The device as its stream port needs it: the SPI endpoint (ready line, transfers) and what the receiver
-// made of the bytes, as running totals.
-class StreamEndpoint : public Endpoint {
- public:
-  // The host went away: a partial frame is dropped and counted.
-  virtual void end_of_stream() = 0;
-  virtual std::uint64_t worlds_accepted() const = 0;  // complete worlds written to the back copy
-  virtual std::uint64_t worlds_rejected() const = 0;  // frames (or v1 words) dropped as damaged or unacceptable
-};
-
 struct StreamPortEvent {
   enum class Kind {
     kConnected,     // a host connected and is now served
@@ -184,7 +161,7 @@ class StreamPort {
   // Never blocks. Moves every byte the host has sent so far into `device` (at most a few megabytes per
   // call), notices a host that went away (device.end_of_stream()), accepts a waiting host if none is served
   // and refuses the others, and sends the credit byte when the rule says so.
-  void service(StreamEndpoint& device);
+  void service(link::StreamEndpoint& device);
 
   // Sleeps until a host connects or sends bytes, or until `until`; returns early when a signal arrives.
   void wait(StreamClock::time_point until) const;
@@ -194,10 +171,10 @@ class StreamPort {
  private:
   StreamPort(StreamSocket listener, StreamAddress address, std::function<void(const StreamPortEvent&)> on_event)
       : listener_(std::move(listener)), address_(std::move(address)), on_event_(std::move(on_event)) {}
-  void read_from_host(StreamEndpoint& device);
+  void read_from_host(link::StreamEndpoint& device);
   void accept_hosts();
-  void grant_credit(StreamEndpoint& device);
-  void drop_host(StreamEndpoint& device, std::string why);
+  void grant_credit(link::StreamEndpoint& device);
+  void drop_host(link::StreamEndpoint& device, std::string why);
   void emit(StreamPortEvent::Kind kind, std::string peer, std::uint64_t bytes, std::string detail);
 
   StreamSocket listener_;
@@ -214,4 +191,4 @@ class StreamPort {
   StreamPortStats stats_;
 };
 
-}  // namespace tripsitter::link
+}  // namespace tripsitter::transport

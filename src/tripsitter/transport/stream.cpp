@@ -1,4 +1,4 @@
-#include <tripsitter/link/stream.h>
+#include <tripsitter/transport/stream.h>
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -15,7 +15,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace tripsitter::link {
+namespace tripsitter::transport {
 namespace {
 
 constexpr std::size_t kReadChunk = 64 * 1024;
@@ -241,8 +241,8 @@ core::Result<bool, StreamError> StreamSender::read_answers() {
     }
     for (ssize_t i = 0; i < n; ++i) {
       const std::uint8_t b = buf[i];
-      if (b == kStreamBusy) return StreamError{"the device at " + peer_ + " is busy with another host"};
-      if (b != kStreamReady && b != kStreamRejected) {
+      if (b == link::kStreamBusy) return StreamError{"the device at " + peer_ + " is busy with another host"};
+      if (b != link::kStreamReady && b != link::kStreamRejected) {
         char hex[8];
         std::snprintf(hex, sizeof hex, "0x%02X", b);
         return StreamError{"the device at " + peer_ + " sent byte " + hex +
@@ -252,8 +252,8 @@ core::Result<bool, StreamError> StreamSender::read_answers() {
       ++stats_.credits;
       if (awaiting_answer_) {
         awaiting_answer_ = false;
-        last_answer_ = b == kStreamReady ? WorldAnswer::kTaken : WorldAnswer::kRejected;
-        ++(b == kStreamReady ? stats_.worlds_taken : stats_.worlds_rejected);
+        last_answer_ = b == link::kStreamReady ? WorldAnswer::kTaken : WorldAnswer::kRejected;
+        ++(b == link::kStreamReady ? stats_.worlds_taken : stats_.worlds_rejected);
       }
     }
   }
@@ -380,14 +380,14 @@ void StreamPort::emit(StreamPortEvent::Kind kind, std::string peer, std::uint64_
   if (on_event_) on_event_({kind, std::move(peer), bytes, std::move(detail)});
 }
 
-void StreamPort::drop_host(StreamEndpoint& device, std::string why) {
+void StreamPort::drop_host(link::StreamEndpoint& device, std::string why) {
   device.end_of_stream();
   host_.close();
   credit_out_ = false;
   emit(StreamPortEvent::Kind::kDisconnected, host_name_, host_bytes_, std::move(why));
 }
 
-void StreamPort::read_from_host(StreamEndpoint& device) {
+void StreamPort::read_from_host(link::StreamEndpoint& device) {
   std::uint8_t buf[kReadChunk];
   std::size_t total = 0;
   while (total < kMaxReadPerService) {
@@ -429,7 +429,7 @@ void StreamPort::accept_hosts() {
     set_nodelay(s.fd());
     if (host_.is_open()) {
       // One host at a time: tell this one why, and close.
-      ::send(s.fd(), &kStreamBusy, 1, MSG_NOSIGNAL);
+      ::send(s.fd(), &link::kStreamBusy, 1, MSG_NOSIGNAL);
       ++stats_.hosts_refused;
       emit(StreamPortEvent::Kind::kRefused, name, 0, "busy with " + host_name_);
       continue;
@@ -444,9 +444,9 @@ void StreamPort::accept_hosts() {
   }
 }
 
-void StreamPort::grant_credit(StreamEndpoint& device) {
+void StreamPort::grant_credit(link::StreamEndpoint& device) {
   if (credit_out_ || !device.ready()) return;
-  const std::uint8_t byte = last_rejected_ ? kStreamRejected : kStreamReady;
+  const std::uint8_t byte = last_rejected_ ? link::kStreamRejected : link::kStreamReady;
   const ssize_t n = ::send(host_.fd(), &byte, 1, MSG_NOSIGNAL);
   if (n == 1) {
     credit_out_ = true;
@@ -459,7 +459,7 @@ void StreamPort::grant_credit(StreamEndpoint& device) {
   drop_host(device, errno_text(errno));
 }
 
-void StreamPort::service(StreamEndpoint& device) {
+void StreamPort::service(link::StreamEndpoint& device) {
   if (host_.is_open()) read_from_host(device);
   accept_hosts();
   if (host_.is_open()) grant_credit(device);
@@ -470,4 +470,4 @@ void StreamPort::wait(StreamClock::time_point until) const {
   ::poll(fds, 2, ms_until(until));
 }
 
-}  // namespace tripsitter::link
+}  // namespace tripsitter::transport

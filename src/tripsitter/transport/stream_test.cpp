@@ -1,4 +1,4 @@
-#include <tripsitter/link/stream.h>
+#include <tripsitter/transport/stream.h>
 
 #include <sys/socket.h>
 
@@ -10,10 +10,15 @@
 
 #include <tripsitter/link/wire_v2.h>
 
-namespace tripsitter::link {
+namespace tripsitter::transport {
 namespace {
 
 using namespace std::chrono_literals;
+using link::encode_v2_frame;
+using link::V2Error;
+using link::V2Failure;
+using link::V2StreamDecoder;
+using link::World;
 
 // ---------------------------------------------------------------------------------------------------------
 // Addresses
@@ -124,7 +129,7 @@ TEST(StreamSockets, ListeningTwiceOnOnePortFails) {
 
 // A receiver like the device's: v2 frames, a back copy that waits for vertical blanking (ready low meanwhile),
 // damaged frames counted and dropped.
-struct FakeReceiver : StreamEndpoint {
+struct FakeReceiver : link::StreamEndpoint {
   V2StreamDecoder decoder{16,
                           {.on_frame =
                                [this](World&& w) {
@@ -413,4 +418,4 @@ TEST(StreamProtocol, FinishWaitsUntilTheLastWorldIsTaken) {
 }
 
 }  // namespace
-}  // namespace tripsitter::link
+}  // namespace tripsitter::transport
