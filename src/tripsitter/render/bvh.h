@@ -1,4 +1,20 @@
-// Closest-hit queries over many spheres: a bounding volume hierarchy and the brute-force reference.
+// Closest-hit queries over many spheres: a bounding volume hierarchy and the brute-force reference. This header is
+// the contract; the code is split by job:
+//   ray_sphere.h       the float ray-sphere kernel (sphere_root), inline; internal to the render library
+//   ray_sphere.cpp     intersect_sphere: the kernel on one sphere
+//   brute_force.cpp    intersect_brute_force: the kernel on every sphere in index order, the reference
+//   bvh_builder.cpp    Bvh::build: binned-SAH binary tree, leaves as structures of arrays, collapse to 8-wide nodes
+//   bvh_traversal.cpp  Bvh::intersect and Bvh::intersect_packet: the SIMD walks of one ray and of eight rays
+//   simd8.h            eight floats at a time (F8), and sphere_lanes.h, the kernel lane by lane: both in the
+//                      namespace of the instruction set they are compiled for (isa.h), safe to include anywhere
+//
+// Agreement with brute force. Every query performs the kernel's float operations in one order, per ray constants
+// included (the SIMD lanes too: the render library is compiled with -ffp-contract=off), so each sphere gets the
+// same t everywhere, and the BVH breaks exact ties towards the lower original index as brute force does. Box
+// culling is conservative (boxes padded beyond the spheres' rounding, slab exits padded as in Ize, "Robust BVH Ray
+// Traversal", 2013), so the BVH returns brute force's answer. The exceptions are hits decided by rounding alone:
+// two spheres whose t differ by no more than float rounding (either may be returned), or a ray grazing a sphere at
+// one of its box's faces (the hit may be dropped).
 #pragma once
 
 #include <cstddef>
@@ -64,16 +80,17 @@ class Bvh {
   template <class Reach, class Limit, class LeafVisit>
   void traverse(Reach&& reach, Limit&& limit, LeafVisit&& leaf) const;
 
-  // The deepest a BVH gets (see bvh.cpp); a depth-first traversal keeps at most kWidth - 1 pending children per
-  // level.
+  // The deepest a BVH gets (see bvh_builder.cpp); a depth-first traversal keeps at most kWidth - 1 pending
+  // children per level.
   static constexpr int kMaxDepth = 64;
 
  private:
-  // Implementation state, free to change; see bvh.cpp for the layout's reasons and invariants.
+  // Implementation state, free to change; see bvh_builder.cpp and bvh_traversal.cpp for the layout's reasons and
+  // invariants.
 
   // A node holds the boxes of its up to kWidth children, one axis and side per row, so that one SIMD operation
   // tests all of them against a ray. A child is another node or a leaf. Built as a binary tree and collapsed
-  // (see bvh.cpp).
+  // (see bvh_builder.cpp).
   struct alignas(64) Node {
     static constexpr std::uint32_t kInner = 0xffffffff;  // count of a child that is a node
     float bounds[6][kWidth];        // [2 * axis + side][child], side 0 = lo, 1 = hi; empty slots: lo = +inf, hi = -inf

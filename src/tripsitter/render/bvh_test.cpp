@@ -314,7 +314,7 @@ Query random_query(std::mt19937& rng, const Scene& scene, float extent) {
 
 // Expects the BVH to return what brute force returns; returns the number of hits. The exception, rare and checked,
 // is a tie: spheres whose t are equal, or equal up to rounding (overlapping spheres seen from very far away), which
-// box culling cannot order (bvh.cpp). The BVH's sphere must then give a t no smaller than brute force's and within
+// box culling cannot order (bvh.h). The BVH's sphere must then give a t no smaller than brute force's and within
 // rounding of it.
 // `found[i]` and `got[i]` are the BVH's answer to queries[i] (by default, Bvh::intersect's).
 int expect_matches_brute_force(const Scene& scene, const Bvh& bvh, const std::vector<Query>& queries,

@@ -3,7 +3,7 @@
 // skipped), each sphere of a leaf is checked against the tile's side planes and against the plane of each row
 // of pixels, and only rows it can touch are intersected, eight rays at a time.
 //
-// Exactness: a lane computes the same float operations, in the same order, as the scalar kernel in bvh.cpp
+// Exactness: a lane computes the same float operations, in the same order, as the scalar kernel in ray_sphere.h
 // (sphere_root) on the ray camera.centre_ray gives, and breaks ties towards the lower sphere index, so a pixel
 // gets the sphere and t that testing every sphere gives. The plane and box tests only skip what cannot be hit,
 // with margins far above float rounding.
@@ -15,12 +15,16 @@
 #include <limits>
 
 #include <tripsitter/core/parallel.h>
+#include <tripsitter/render/simd8.h>
+#include <tripsitter/render/sphere_lanes.h>
 
 namespace tripsitter::render {
 namespace {
 
-#include <tripsitter/render/simd8.h>
-#include <tripsitter/render/sphere_lanes.h>
+using simd::F8;
+using simd::keep_nearest;
+using simd::LaneRoots;
+using simd::sphere_lanes;
 
 constexpr int kTile = 8;
 constexpr float kInf = std::numeric_limits<float>::infinity();

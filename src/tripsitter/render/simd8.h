@@ -1,9 +1,13 @@
 // Eight floats at a time: one AVX register where the translation unit is compiled for AVX, two SSE registers
-// otherwise. Every operation is the IEEE operation of each lane (no fused multiply-add), so a lane computes
-// bit for bit what the same scalar expression computes.
+// otherwise. Every operation is the IEEE operation of each lane, so a lane computes bit for bit what the same scalar
+// expression computes, provided no multiply and add are fused: GCC, by default and where FMA is available, fuses
+// these intrinsics as it fuses plain float arithmetic, so code that must give the scalar kernel's bits
+// (sphere_lanes.h) is compiled with -ffp-contract=off, as the whole render library is (render/CMakeLists.txt).
 //
-// Include it inside a namespace named after the instruction set (see primary.cpp): translation units built for
-// different instruction sets then never share an inline function the linker could mix up.
+// Safe to include anywhere: F8 lives in tripsitter::render::simd, in an inline namespace named after the instruction
+// set the including translation unit is compiled for (isa.h: simd::avx2::F8 in the render library, built for
+// x86-64-v3; simd::sse2::F8 in a baseline build or a test), so code compiled for different instruction sets never
+// shares an inline function, or a layout, that the linker could mix up. Callers write simd::F8.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +17,11 @@
 #else
 #include <emmintrin.h>
 #endif
+
+#include <tripsitter/render/isa.h>
+
+namespace tripsitter::render::simd {
+inline namespace TRIPSITTER_RENDER_ISA {
 
 struct F8 {
 #if defined(__AVX__)
@@ -89,3 +98,6 @@ struct F8 {
     return andnot(sign, a) | (b & sign);
   }
 };
+
+}  // namespace TRIPSITTER_RENDER_ISA
+}  // namespace tripsitter::render::simd

@@ -1,13 +1,21 @@
-// The ray-sphere kernel of bvh.cpp (sphere_root) in SIMD lanes, for any mix of rays and spheres across the lanes
-// (a leaf's spheres against one ray, one sphere against a packet or a tile's row of rays), and the closest-hit
-// bookkeeping of many rays at once. Each lane performs sphere_root's float operations in its order, so a lane's t
-// is bit for bit the scalar kernel's (the render library is compiled with -ffp-contract=off).
+// The float ray-sphere kernel (ray_sphere.h, sphere_root) in SIMD lanes, for any mix of rays and spheres across
+// the lanes (a leaf's spheres against one ray, one sphere against a packet or a tile's row of rays), and the
+// closest-hit bookkeeping of many rays at once. Each lane performs sphere_root's float operations in its order, so a
+// lane's t is bit for bit the scalar kernel's, where compiled with -ffp-contract=off as the render library is (see
+// simd8.h).
 //
-// Uses F8: include it right after simd8.h, inside the same namespace (see simd8.h).
+// Safe to include anywhere: like F8 (simd8.h), everything here lives in tripsitter::render::simd, in the inline
+// namespace of the instruction set it is compiled for (isa.h).
 #pragma once
 
 #include <bit>
 #include <cstdint>
+
+#include <tripsitter/render/isa.h>
+#include <tripsitter/render/simd8.h>
+
+namespace tripsitter::render::simd {
+inline namespace TRIPSITTER_RENDER_ISA {
 
 // The lanes that offer a root beyond t_min (`hit`, a mask) and that root (`t`): the near root if it lies beyond
 // t_min, else the far one. Both all zero when no lane has a real root.
@@ -55,3 +63,6 @@ inline int keep_nearest(F8 valid, F8 t, std::uint32_t index, float* best_t, floa
   }
   return nearer;
 }
+
+}  // namespace TRIPSITTER_RENDER_ISA
+}  // namespace tripsitter::render::simd

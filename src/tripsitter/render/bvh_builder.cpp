@@ -1,82 +1,21 @@
-// Closest-hit queries over spheres: the float ray-sphere kernel, the brute-force reference and a binned-SAH BVH.
-//
-// Agreement with brute force. Brute force, the BVH leaves and intersect_sphere all call one compiled kernel with the
-// same per-ray constants, so each sphere gets bit-identical t everywhere, and the BVH breaks exact ties towards the lower
-// original index as brute force does. Box culling is conservative (boxes padded beyond the spheres' rounding, slab
-// exits padded as in Ize, "Robust BVH Ray Traversal", 2013), so the BVH returns brute force's answer. The exceptions
-// are hits decided by rounding alone: two spheres whose t differ by no more than float rounding (either may be
-// returned), or a ray grazing a sphere at one of its box's faces (the hit may be dropped).
-//
-// Nodes test their eight children's boxes, and leaves their up to eight spheres, in one SIMD step (simd8.h: AVX
-// where compiled for it, else two SSE halves). Each lane performs the scalar kernel's operations in its order (the
-// render library is compiled with -ffp-contract=off, so no multiply-add is ever fused), so lanes and scalar calls
-// give the same t.
+// Bvh::build (bvh.h): a binary tree by binned SAH (Wald, "On fast construction of SAH-based bounding volume
+// hierarchies", 2007) over the spheres' centroids, binning all three axes in one pass, depth-first so that a parent
+// and its first subtree sit together in memory; its leaves laid out as structures of arrays (Bvh::Leaf); then the
+// tree collapsed into Bvh::kWidth-wide nodes. Boxes hold each sphere with a margin beyond rounding (padded_radius),
+// which the traversal's culling relies on (bvh_traversal.cpp).
 #include <tripsitter/render/bvh.h>
 
 #include <algorithm>
-#include <bit>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <vector>
 
 namespace tripsitter::render {
 namespace {
 
-#include <tripsitter/render/simd8.h>
-#include <tripsitter/render/sphere_lanes.h>
-
 constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// Per-ray constants of the sphere kernel. Every caller computes them through make_kernel_ray, so every caller
-// performs the same float operations for a given sphere.
-struct KernelRay {
-  Vec3f origin;
-  Vec3f dir;
-  float dir_len2;      // |dir|^2, the a of the quadratic
-  float inv_dir_len2;  // 1 / |dir|^2 (inf for a zero direction, which the kernel then rejects)
-};
-
-KernelRay make_kernel_ray(const Ray& ray) {
-  const float a = dot(ray.dir, ray.dir);
-  return {ray.origin, ray.dir, a, 1.0f / a};
-}
-
-// The root chosen by t_min alone: the near root if it lies beyond t_min, else the far root if that does.
-// Callers then require t < t_max; since far >= near this equals choosing within (t_min, t_max) directly,
-// and it lets the BVH compare against a t_max that shrinks without changing which root a sphere offers.
-// sphere_roots (below) and primary.cpp's tiles repeat these operations lane by lane; with -ffp-contract=off for
-// the whole library no copy fuses a multiply-add, so every copy rounds alike.
-bool sphere_root(const KernelRay& ray, const Vec3f& center, float radius, float t_min, float& t) {
-  // Solve a t^2 + 2 b t + c = 0, a = |d|^2, b = oc.d, c = |oc|^2 - r^2. The quarter discriminant b^2 - a c is
-  // rewritten as a (r^2 - |f|^2), f = oc - (b/a) d being the vector from the centre to the ray's closest approach:
-  // b^2 and a c are huge and nearly equal for a sphere far larger or farther away than its distance to the line,
-  // whereas f is small and accurate there.
-  const Vec3f oc = ray.origin - center;
-  const float b = dot(oc, ray.dir);
-  const Vec3f f = oc - ray.dir * (b * ray.inv_dir_len2);
-  const float r2 = radius * radius;
-  const float disc = ray.dir_len2 * (r2 - dot(f, f));
-  if (!(disc >= 0.0f)) return false;  // a miss, or NaN from a zero direction
-  // Roots without cancellation: q adds two terms of the same sign; the roots are q/a and c/q.
-  const float q = -(b + std::copysign(std::sqrt(disc), b));
-  const float c = dot(oc, oc) - r2;
-  float t_near = q * ray.inv_dir_len2;
-  float t_far = q != 0.0f ? c / q : 0.0f;  // q == 0: the ray only touches the sphere, at its origin
-  if (t_far < t_near) std::swap(t_near, t_far);
-  if (t_near > t_min) {
-    t = t_near;
-    return true;
-  }
-  if (t_far > t_min) {
-    t = t_far;
-    return true;
-  }
-  return false;
-}
-
-// ---------------------------------------------------------------------------------------------------------------
-// Build: binned SAH (Wald, "On fast construction of SAH-based bounding volume hierarchies", 2007) over the centroids,
-// binning all three axes in one pass, depth-first so that a parent and its first subtree sit together in memory.
 
 constexpr std::uint32_t kMaxLeafSize = Bvh::kWidth;
 constexpr int kWidth = Bvh::kWidth;
@@ -88,9 +27,8 @@ constexpr int kBins = 16;
 constexpr float kTraversalCost = 1.0f;
 inline float leaf_tests(std::uint32_t n) { return static_cast<float>((n + kWidth - 1) / kWidth); }
 // Below this depth splits follow the SAH; deeper, at the median, which halves the count. Depth therefore stays
-// under kMaxSahDepth + log2(2^32 / kMaxLeafSize) <= 62 < kStackSize, whatever the distribution.
+// under kMaxSahDepth + log2(2^32 / kMaxLeafSize) <= 62 < Bvh::kMaxDepth, whatever the distribution.
 constexpr std::uint32_t kMaxSahDepth = 32;
-constexpr int kStackSize = Bvh::kMaxDepth;
 
 struct Box {
   Vec3f lo{kInf, kInf, kInf};
@@ -200,7 +138,7 @@ class Builder {
 
   void apply(const Split& split, std::uint32_t node, std::uint32_t begin, std::uint32_t end,
              std::uint32_t child_depth) {
-    assert(child_depth < static_cast<std::uint32_t>(kStackSize));
+    assert(child_depth < static_cast<std::uint32_t>(Bvh::kMaxDepth));
     std::uint32_t mid;
     Box left = split.left, right = split.right;
     if (split.cost < kInf) {
@@ -373,71 +311,6 @@ void collapse(const std::vector<BinaryNode>& binary, std::vector<Node>& nodes) {
   assert(nodes.size() == count);
 }
 
-// Widens slab exits by the worst rounding of (plane - origin) * inv_dir, so culling never drops a box the ray
-// enters (Ize 2013: 1 + 2 gamma(3)).
-constexpr float kExitPad = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
-
-// Per-ray constants of the slab test. For each axis, the rows of Node::bounds holding the planes the ray meets
-// first and last: lo then hi when moving towards +, hi then lo when moving towards -.
-struct SlabRay {
-  F8 origin[3];
-  F8 inv_dir[3];  // 1/0 = +-inf: see enter_children
-  int near[3], far[3];
-};
-
-SlabRay make_slab_ray(const Ray& ray) {
-  SlabRay r;
-  for (int a = 0; a < 3; ++a) {
-    r.origin[a] = F8::set1(ray.origin[a]);
-    r.inv_dir[a] = F8::set1(1.0f / ray.dir[a]);
-    const int negative = std::signbit(ray.dir[a]) ? 1 : 0;
-    r.near[a] = 2 * a + negative;
-    r.far[a] = 2 * a + 1 - negative;
-  }
-  return r;
-}
-
-// Which of a node's children boxes the ray enters within [t_min, t_max] (bit k for child k), and where.
-// A zero direction component makes its slab distances +-inf (outside or inside that slab), or NaN (0 * inf) when
-// the origin lies on a plane of the slab; max/min below ignore NaN, treating the ray as inside: conservative.
-// Empty slots (lo = +inf, hi = -inf) are never entered.
-inline unsigned enter_children(const float (*bounds)[kWidth], const SlabRay& r, F8 t_min, float t_max,
-                               float t_enter[kWidth]) {
-  // max(x, acc) and min(x, acc) return acc when x is NaN.
-  F8 t0 = t_min, t1 = F8::set1(t_max);
-  const F8 pad = F8::set1(kExitPad);
-  for (int a = 0; a < 3; ++a) {
-    const F8 near = F8::load(bounds[r.near[a]]);
-    const F8 far = F8::load(bounds[r.far[a]]);
-    t0 = max((near - r.origin[a]) * r.inv_dir[a], t0);
-    t1 = min((far - r.origin[a]) * r.inv_dir[a] * pad, t1);
-  }
-  t0.store(t_enter);
-  return static_cast<unsigned>((t0 <= t1).bits());
-}
-
-// The kernel ray's terms broadcast to every lane, once per ray rather than once per leaf.
-struct KernelRay8 {
-  F8 ox, oy, oz, dx, dy, dz, dir_len2, inv_dir_len2, t_min;
-};
-
-KernelRay8 broadcast(const KernelRay& r, float t_min) {
-  return {F8::set1(r.origin.x), F8::set1(r.origin.y), F8::set1(r.origin.z),
-          F8::set1(r.dir.x),    F8::set1(r.dir.y),    F8::set1(r.dir.z),
-          F8::set1(r.dir_len2), F8::set1(r.inv_dir_len2), F8::set1(t_min)};
-}
-
-// sphere_root on a leaf's spheres at once: bit k of the result is set when sphere k offers a root beyond t_min,
-// which is then t[k]. Unused lanes (NaN centres) never hit.
-inline unsigned sphere_roots(const KernelRay8& ray, const Bvh::Leaf& leaf, float t[kWidth]) {
-  const F8 radius = F8::load(leaf.radius);
-  const LaneRoots roots = sphere_lanes(ray.ox - F8::load(leaf.cx), ray.oy - F8::load(leaf.cy),
-                                       ray.oz - F8::load(leaf.cz), ray.dx, ray.dy, ray.dz, ray.dir_len2,
-                                       ray.inv_dir_len2, radius * radius, ray.t_min);
-  roots.t.store(t);
-  return static_cast<unsigned>(roots.hit.bits());
-}
-
 // Leaves in a structure of arrays, one per leaf child of the binary tree, replacing that child's `first` (a range
 // of refs) by the leaf's index.
 std::vector<Bvh::Leaf> make_leaves(std::vector<BinaryNode>& binary, const std::vector<PrimRef>& refs,
@@ -475,37 +348,6 @@ std::vector<Bvh::Leaf> make_leaves(std::vector<BinaryNode>& binary, const std::v
 
 }  // namespace
 
-const char* simd_instruction_set() {
-#if defined(__AVX2__)
-  return "AVX2 (x86-64-v3)";
-#else
-  return "SSE2 (x86-64)";
-#endif
-}
-
-bool intersect_sphere(const Ray& ray, const Vec3f& center, float radius, float t_min, float t_max, float& t) {
-  float root;
-  if (!sphere_root(make_kernel_ray(ray), center, radius, t_min, root) || !(root < t_max)) return false;
-  t = root;
-  return true;
-}
-
-bool intersect_brute_force(std::span<const Vec3f> centers, std::span<const float> radii, const Ray& ray,
-                           float t_min, float t_max, SphereHit& hit) {
-  assert(centers.size() == radii.size());
-  const KernelRay kray = make_kernel_ray(ray);
-  bool found = false;
-  for (std::size_t i = 0; i < centers.size(); ++i) {
-    float t;
-    if (sphere_root(kray, centers[i], radii[i], t_min, t) && t < t_max) {  // strict: ties keep the lower index
-      t_max = t;
-      hit = {t, static_cast<std::uint32_t>(i)};
-      found = true;
-    }
-  }
-  return found;
-}
-
 Bvh Bvh::build(std::span<const Vec3f> centers, std::span<const float> radii) {
   assert(centers.size() == radii.size());
   assert(centers.size() < std::size_t{Node::kInner});
@@ -524,152 +366,6 @@ Bvh Bvh::build(std::span<const Vec3f> centers, std::span<const float> radii) {
   std::vector<PrimRef>().swap(refs);
   collapse(binary, bvh.nodes_);
   return bvh;
-}
-
-bool Bvh::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const {
-  if (nodes_.empty()) return false;
-  const KernelRay8 kray = broadcast(make_kernel_ray(ray), t_min);
-  const SlabRay sray = make_slab_ray(ray);
-  float best_t = t_max;
-  std::uint32_t best = 0;  // original index of the best sphere
-  bool found = false;
-
-  const auto visit_leaf = [&](std::uint32_t leaf_index) {
-    const Leaf& leaf = leaves_[leaf_index];
-    alignas(32) float t[kWidth];
-    for (unsigned hits = sphere_roots(kray, leaf, t); hits != 0; hits &= hits - 1) {
-      const int k = __builtin_ctz(hits);
-      const std::uint32_t original = leaf.original[k];
-      // Equal t goes to the lower original index, as in brute force.
-      if (t[k] < best_t || (found && t[k] == best_t && original < best)) {
-        best_t = t[k];
-        best = original;
-        found = true;
-      }
-    }
-  };
-
-  // Nodes waiting to be visited and the t at which the ray enters their boxes; leaves are tested when met.
-  struct Pending {
-    std::uint32_t node;
-    float t_enter;
-  };
-  Pending stack[(kWidth - 1) * kStackSize + 1];
-  int size = 0;
-  std::uint32_t node = 0;
-  for (;;) {
-    // Each visit tests the node's children, the leaves among them at once, and moves on to the next node.
-    const Node& n = nodes_[node];
-    alignas(32) float t_enter[kWidth];
-    // Inclusive of best_t so that exact ties are still seen.
-    unsigned enters = enter_children(n.bounds, sray, kray.t_min, best_t, t_enter);
-    int order[kWidth];  // the children that are nodes, farthest first
-    int nodes = 0;
-    for (; enters != 0; enters &= enters - 1) {
-      const int k = __builtin_ctz(enters);
-      if (n.count[k] != Node::kInner) {
-        if (t_enter[k] <= best_t) visit_leaf(n.first[k]);
-        continue;
-      }
-#if defined(__GNUC__)
-      // Start fetching the node while the others are sorted: most node visits miss the cache on big scenes.
-      __builtin_prefetch(&nodes_[n.first[k]]);
-#endif
-      int j = nodes++;
-      for (; j > 0 && t_enter[order[j - 1]] < t_enter[k]; --j) order[j] = order[j - 1];
-      order[j] = k;
-    }
-    // The nearest node next, the others later; a leaf just tested may have moved best_t closer than them all.
-    for (int j = 0; j + 1 < nodes; ++j) {
-      assert(size < (kWidth - 1) * kStackSize + 1);
-      stack[size++] = {n.first[order[j]], t_enter[order[j]]};
-    }
-    if (nodes > 0 && t_enter[order[nodes - 1]] <= best_t) {
-      node = n.first[order[nodes - 1]];
-      continue;
-    }
-    // Otherwise resume with the nearest pending node still in range.
-    while (size > 0 && stack[size - 1].t_enter > best_t) --size;
-    if (size == 0) break;
-    node = stack[--size].node;
-  }
-  if (found) hit = {best_t, best};
-  return found;
-}
-
-namespace {
-
-// A packet's rays, one per lane: the slab test's and the sphere kernel's per-ray terms, computed with the same
-// operations as make_slab_ray and make_kernel_ray.
-struct RayPacket {
-  F8 origin[3], dir[3];
-  F8 inv_dir[3];
-  F8 negative[3];  // all ones where the direction component's sign bit is set
-  F8 dir_len2, inv_dir_len2;
-};
-
-RayPacket make_packet(const Ray (&rays)[kWidth]) {
-  alignas(32) float v[3][2][kWidth];
-  for (int k = 0; k < kWidth; ++k) {
-    for (int a = 0; a < 3; ++a) {
-      v[a][0][k] = rays[k].origin[a];
-      v[a][1][k] = rays[k].dir[a];
-    }
-  }
-  RayPacket p;
-  const F8 one = F8::set1(1.0f);
-  for (int a = 0; a < 3; ++a) {
-    p.origin[a] = F8::load(v[a][0]);
-    p.dir[a] = F8::load(v[a][1]);
-    p.inv_dir[a] = one / p.dir[a];
-    // 1 / -0 = -inf: negative exactly where the sign bit is set, as std::signbit in make_slab_ray.
-    p.negative[a] = p.inv_dir[a] < F8::set1(0.0f);
-  }
-  p.dir_len2 = p.dir[0] * p.dir[0] + p.dir[1] * p.dir[1] + p.dir[2] * p.dir[2];
-  p.inv_dir_len2 = one / p.dir_len2;
-  return p;
-}
-
-}  // namespace
-
-unsigned Bvh::intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_max, SphereHit (&hits)[kWidth]) const {
-  const RayPacket p = make_packet(rays);
-  const F8 vt_min = F8::set1(t_min), pad = F8::set1(kExitPad);
-  alignas(32) float best_t[kWidth];
-  F8::set1(t_max).store(best_t);
-  alignas(32) float best_id[kWidth] = {};  // original index of each lane's best sphere, as float bits
-  unsigned found = 0;                       // lanes that hit
-
-  // The tree walked once for all lanes (traverse): a box is entered when some lane enters it, its distance the
-  // nearest entry among those lanes, and skipped when every lane has a hit nearer than that.
-  const auto reach = [&](const float lo[3], const float hi[3]) {
-    // The slab method lane by lane, the planes chosen by each lane's direction signs as make_slab_ray chooses
-    // them, NaN (0 * inf) ignored as in enter_children.
-    F8 t0 = vt_min, t1 = F8::load(best_t);
-    for (int a = 0; a < 3; ++a) {
-      const F8 near = select(p.negative[a], F8::set1(hi[a]), F8::set1(lo[a]));
-      const F8 far = select(p.negative[a], F8::set1(lo[a]), F8::set1(hi[a]));
-      t0 = max((near - p.origin[a]) * p.inv_dir[a], t0);
-      t1 = min((far - p.origin[a]) * p.inv_dir[a] * pad, t1);
-    }
-    return select(t0 <= t1, t0, F8::set1(kInf)).min_lane();  // t0 is never NaN: max ignores NaN
-  };
-  const auto limit = [&] { return *std::max_element(best_t, best_t + kWidth); };
-  // Each sphere of a leaf against every lane's ray.
-  const auto leaf = [&](const Leaf& l, std::uint32_t count) {
-    for (std::uint32_t i = 0; i < count; ++i) {
-      const LaneRoots roots = sphere_lanes(p.origin[0] - F8::set1(l.cx[i]), p.origin[1] - F8::set1(l.cy[i]),
-                                           p.origin[2] - F8::set1(l.cz[i]), p.dir[0], p.dir[1], p.dir[2],
-                                           p.dir_len2, p.inv_dir_len2, F8::set1(l.radius[i] * l.radius[i]), vt_min);
-      if (roots.hit.bits() != 0)
-        found |= static_cast<unsigned>(keep_nearest(roots.hit, roots.t, l.original[i], best_t, best_id));
-    }
-  };
-  traverse(reach, limit, leaf);
-  for (int k = 0; k < kWidth; ++k) {
-    if (found >> k & 1) hits[k] = {best_t[k], std::bit_cast<std::uint32_t>(best_id[k])};
-  }
-  return found;
 }
 
 std::size_t Bvh::sphere_count() const { return spheres_; }
