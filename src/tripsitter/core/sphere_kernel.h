@@ -12,6 +12,10 @@
 // ray, comparing num compares t. In fixed point, positions carry 2^-F and the formulas are homogeneous in
 // that scale, so the kernel never needs to know F: only the host's rounding does.
 //
+// The quadratic is written once, in hit_num (from a, b and c' to num). closest_hit runs sphere_num for each
+// sphere, which computes b and c' and calls hit_num; the device's fast model calls hit_num itself with
+// coefficients it shares among many rays (device/fast_tracer.h), so both run the same steps and checks.
+//
 // The mirror model (docs/device.md): a ray that hits a metal, while fewer than max_bounces reflections
 // have been traced, reflects and the pixel takes the colour of the reflected ray times the metal's albedo;
 // a metal hit at the cut-off is shaded with its normal-map colour. Channel = floor(base * prod(albedo_i) /
@@ -25,12 +29,16 @@
 // The Arith policy supplies the number types and the non-ring operations:
 //   typename Arith::Coord        sphere coordinates and radius (raw fixed point, or double)
 //   typename Arith::Wide         products and sums of products (128-bit integer, or double)
-//   Wide arith.sqrt(Wide D)      D >= 0
+//   arith.sqrt(Square D)         D >= 0; sqrt(D) as anything Wide is made from
 //   int  Arith::floor_div(Wide n, Wide d)      d > 0; floor(n / d), saturated to the int range
 //   Wide Arith::round_div(Wide n, Wide d)      d > 0; n / d on the position grid: to nearest, or exact
 //   Vec3<Wide> Arith::scale_direction(Vec3<Wide> r)   r times 2^-s, s >= 0 the least making max |r_k| <= 2^20
+// (a policy used only for closest hits and shading needs neither round_div nor scale_direction, which only
+// reflect calls)
 // and optionally
-//   void arith.check(Wide v, Width which)       checks v against the bound of the intermediate `which`
+//   typename Arith::Square       b^2, 4ac' and D, when they need more than Wide (default: Wide). The device's
+//                                fast model sums in 64 bits and squares in 128 (device/fast_tracer.h).
+//   void arith.check(v, Width which)           checks v (a Wide or a Square) against the bound of `which`
 // (the device's fixed point checks the widths docs/device.md gives, in builds with TRIPSITTER_CHECK_FIXED).
 // Every intermediate is checked before it enters a product, so a check sees the true value, never a
 // wrapped one.
@@ -76,10 +84,23 @@ enum class Width {
 };
 
 // Lets arith check v when it has a check member (the device's fixed point); nothing otherwise.
-template <class Arith>
-void check_width(const Arith& arith, const typename Arith::Wide& v, Width which) {
+template <class Arith, class V>
+void check_width(const Arith& arith, const V& v, Width which) {
   if constexpr (requires { arith.check(v, which); }) arith.check(v, which);
 }
+
+// The type of b^2, 4ac' and D: Arith::Square where the policy has one, else Arith::Wide.
+template <class Arith>
+struct SquareOf {
+  using type = typename Arith::Wide;
+};
+template <class Arith>
+  requires requires { typename Arith::Square; }
+struct SquareOf<Arith> {
+  using type = typename Arith::Square;
+};
+template <class Arith>
+using SquareT = typename SquareOf<Arith>::type;
 
 template <class Coord>
 struct KernelSphere {
@@ -112,11 +133,56 @@ struct PixelTrace {
   int bounces = 0;
 };
 
-// Closest hit along the ray over all spheres but `excluded` (-1: none). Ties go to the lower index.
+// The quadratic of one ray and one sphere, from its coefficients a = d.d, b = 2 d.oc and c' = oc.oc - r^2
+// (each caller computes them its own way: sphere_num below, or the device's fast model from terms it shares
+// among many rays). The result is > 0 exactly when the ray hits the sphere in front of its origin, and then
+// it is num = b - sqrt(D), D = b^2 - 4ac'. Otherwise it is <= 0: 0 when the ray misses (D < 0), b - sqrt(D)
+// when it meets the sphere only behind its origin or starts inside it. REQUIRES a checked (kA).
 template <class Arith>
-KernelHit<typename Arith::Wide> closest_hit(const Arith& arith, const KernelRay<typename Arith::Wide>& ray,
-                                            std::span<const KernelSphere<typename Arith::Coord>> spheres,
-                                            int excluded = -1) {
+inline typename Arith::Wide hit_num(const Arith& arith, typename Arith::Wide a, typename Arith::Wide b,
+                                    typename Arith::Wide c_prime) {
+  using Wide = typename Arith::Wide;
+  using Square = SquareT<Arith>;
+  check_width(arith, b, Width::kB);
+  check_width(arith, c_prime, Width::kCPrime);
+  const Square b2 = Square(b) * Square(b);
+  const Square ac4 = Square(Wide(4) * a) * Square(c_prime);
+  check_width(arith, b2, Width::kSquare);
+  check_width(arith, ac4, Width::kSquare);
+  const Square disc = b2 - ac4;
+  check_width(arith, disc, Width::kDisc);
+  if (disc < Square(0)) return Wide(0);
+  const Wide num = b - Wide(arith.sqrt(disc));
+  check_width(arith, num, Width::kNum);
+  return num;  // <= 0: the near intersection is behind the origin (or the origin is inside)
+}
+
+// The ray against sphere s: hit_num of its coefficients, > 0 exactly when the ray hits s in front of its
+// origin, and then num = b - sqrt(D) (t = num / 2a). a = d.d of the ray, checked (kA).
+template <class Arith>
+inline typename Arith::Wide sphere_num(const Arith& arith, const KernelRay<typename Arith::Wide>& ray,
+                                       typename Arith::Wide a, const KernelSphere<typename Arith::Coord>& s) {
+  using Wide = typename Arith::Wide;
+  const Vec3<Wide>& d = ray.direction;
+  const Vec3<Wide>& o = ray.origin;
+  for (int k = 0; k < 3; ++k) check_width(arith, Wide(s.center[k]), Width::kCentre);
+  check_width(arith, Wide(s.radius), Width::kRadius);
+  const Vec3<Wide> oc{Wide(s.center.x) - o.x, Wide(s.center.y) - o.y, Wide(s.center.z) - o.z};
+  for (int k = 0; k < 3; ++k) check_width(arith, oc[k], Width::kToCentre);
+  const Wide r = Wide(s.radius);
+  const Wide b = Wide(2) * dot(d, oc);
+  const Wide c_prime = dot(oc, oc) - r * r;
+  return hit_num(arith, a, b, c_prime);
+}
+
+// Closest hit along the ray over all spheres but `excluded` (-1: none). Ties go to the lower index.
+// Flattened (sphere_num and hit_num inlined into the loop): without it GCC compiles the plain worker's search
+// to about 5% more instructions than the same steps written out in the loop. (Forcing hit_num inline
+// everywhere instead slows the fast model's loops, which GCC inlines well by itself.)
+template <class Arith>
+[[gnu::flatten]] KernelHit<typename Arith::Wide> closest_hit(
+    const Arith& arith, const KernelRay<typename Arith::Wide>& ray,
+    std::span<const KernelSphere<typename Arith::Coord>> spheres, int excluded = -1) {
   using Wide = typename Arith::Wide;
   const Vec3<Wide>& d = ray.direction;
   const Vec3<Wide>& o = ray.origin;
@@ -129,26 +195,8 @@ KernelHit<typename Arith::Wide> closest_hit(const Arith& arith, const KernelRay<
   KernelHit<Wide> best;
   for (int i = 0; i < static_cast<int>(spheres.size()); ++i) {
     if (i == excluded) continue;
-    const auto& s = spheres[static_cast<std::size_t>(i)];
-    for (int k = 0; k < 3; ++k) check_width(arith, Wide(s.center[k]), Width::kCentre);
-    check_width(arith, Wide(s.radius), Width::kRadius);
-    const Vec3<Wide> oc{Wide(s.center.x) - o.x, Wide(s.center.y) - o.y, Wide(s.center.z) - o.z};
-    for (int k = 0; k < 3; ++k) check_width(arith, oc[k], Width::kToCentre);
-    const Wide r = Wide(s.radius);
-    const Wide b = Wide(2) * dot(d, oc);
-    const Wide c_prime = dot(oc, oc) - r * r;
-    check_width(arith, b, Width::kB);
-    check_width(arith, c_prime, Width::kCPrime);
-    const Wide b2 = b * b;
-    const Wide ac4 = Wide(4) * a * c_prime;
-    check_width(arith, b2, Width::kSquare);
-    check_width(arith, ac4, Width::kSquare);
-    const Wide disc = b2 - ac4;
-    check_width(arith, disc, Width::kDisc);
-    if (disc < Wide(0)) continue;
-    const Wide num = b - arith.sqrt(disc);
-    check_width(arith, num, Width::kNum);
-    if (!(num > Wide(0))) continue;  // the near intersection is behind the origin (or the origin is inside)
+    const Wide num = sphere_num(arith, ray, a, spheres[static_cast<std::size_t>(i)]);
+    if (!(num > Wide(0))) continue;  // a miss, or a hit behind the ray's origin
     if (best.index < 0 || num < best.num) best = {i, num};
   }
   return best;

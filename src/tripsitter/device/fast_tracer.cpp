@@ -2,73 +2,33 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstdlib>
-#include <limits>
+
+#include <tripsitter/core/isqrt.h>
+#include <tripsitter/core/screen.h>
 
 namespace tripsitter::device {
 namespace {
 
 using core::Int128;
-using core::UInt128;
-
-constexpr int kRows = 480;
-constexpr std::int64_t kImagePlane = 320;  // the rays' z, and the column and row offsets' origin
-
-// Whether the plane through the camera holding the rays (offset, *, 320) (a column's, offset = col - 320)
-// or (*, offset, 320) (a row's, offset = row - 240) meets the sphere: its distance from the centre is at
-// most r. `across` is the centre's coordinate along the offset, `depth` its z. Exact: with |across|,
-// |depth| < 2^28 and |offset| <= 320 the products stay below 2^76.
-bool plane_meets(std::int64_t across, std::int64_t depth, std::int64_t r2, std::int64_t offset) {
-  const std::int64_t side = kImagePlane * across - offset * depth;  // the normal (320, -offset) . centre
-  return Int128{side} * side <= Int128{r2} * (kImagePlane * kImagePlane + offset * offset);
-}
-
-// The hull [lo, hi] of the indices in [0, count) whose plane (offset index - centre) meets the sphere.
-std::array<int, 2> meeting_range(std::int64_t across, std::int64_t depth, std::int64_t r2, int count, int centre) {
-  int lo = count, hi = -1;
-  for (int i = 0; i < count; ++i) {
-    if (!plane_meets(across, depth, r2, i - centre)) continue;
-    lo = std::min(lo, i);
-    hi = i;
-  }
-  return {lo, hi};
-}
-
-// ceil(sqrt(v)) for 0 <= v < 2^62: the double estimate is off by at most one, and the loops make it exact.
-std::int64_t ceil_sqrt(std::int64_t v) {
-  auto s = static_cast<std::int64_t>(std::sqrt(static_cast<double>(v)));
-  while (s * s > v) --s;
-  while ((s + 1) * (s + 1) <= v) ++s;
-  return s * s == v ? s : s + 1;
-}
+using core::kScreenHeight;
+using core::kScreenWidth;
 
 constexpr int kLeafSpheres = 4;
-
-// The kernel's shading of a camera ray's hit in a narrow world, in 64 bits: num <= b < 2^38.8, |d_k| <= 320,
-// 2a < 2^19.1 and |c_k|, r < 2^28, so n_num = num d_k - 2a c_k < 2^48.2, den = 2a r < 2^47.1 and
-// 7 n_num + 7 den < 2^52: the same integers as FixedArith's, without 128-bit arithmetic.
-struct CameraArith {
-  using Coord = std::int64_t;
-  using Wide = std::int64_t;
-  static int floor_div(Wide n, Wide d) {
-    Wide q = n / d;
-    if (n < 0 && q * d != n) --q;
-    return static_cast<int>(std::clamp<Wide>(q, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
-  }
-};
 
 }  // namespace
 
 FastTracer::FastTracer(const DevicePreset& preset)
     : preset_(preset),
       controller_(preset),
-      arith_{SqrtUnit(preset.sqrt_iterations), FixedArith::extra_bits_of(preset)} {}
+      arith_{SqrtUnit(preset.sqrt_iterations), FixedArith::extra_bits_of(preset)},
+      narrow_arith_{arith_} {}
 
 void FastTracer::load(const SceneMemory& scene) {
   scene_ = &scene;
   const std::size_t n = scene.geometry.size();
-  // The fast paths' searches check no widths; their inputs are what every bound derives from.
+  // The fast paths' bounds derive from these inputs. Their quadratics and shading are the kernel's and check
+  // their widths as the plain model does (NarrowArith); the plane and ball tests are the fast model's own.
   for (const auto& s : scene.geometry) {
     for (int k = 0; k < 3; ++k) arith_.check(s.center[k], core::Width::kCentre);
     arith_.check(s.radius, core::Width::kRadius);
@@ -78,7 +38,7 @@ void FastTracer::load(const SceneMemory& scene) {
            std::abs(s.center.z) < kNarrowLimit && s.radius >= 0 && s.radius < kNarrowLimit;
   });
   if (!narrow_) return;
-  columns_ = std::min(kLineWidth, preset_.workers * controller_.pixels_in_time(static_cast<std::int64_t>(n)));
+  columns_ = std::min(kScreenWidth, preset_.workers * controller_.pixels_in_time(static_cast<std::int64_t>(n)));
   cx_.resize(n);
   cy_.resize(n);
   cz_.resize(n);
@@ -102,22 +62,25 @@ void FastTracer::load(const SceneMemory& scene) {
       rows[i] = {0, -1};
       continue;
     }
-    const auto cols = meeting_range(s.center.x, s.center.z, r2_[i], columns_, kImagePlane);
-    col_lo_[i] = cols[0];
-    col_hi_[i] = cols[1];
-    rows[i] = col_lo_[i] <= col_hi_[i] ? meeting_range(s.center.y, s.center.z, r2_[i], kRows, kRows / 2)
-                                        : std::array<int, 2>{0, -1};
+    // Screen-space bounds, exact in integers (no margin: r2 is r^2): with |c_k| < 2^28, the image plane at
+    // 320 and |offset| <= 320, the plane tests' sums stay below 2^38 and their products below 2^76.
+    const core::ScreenBounds b =
+        core::screen_bounds<Int128>(s.center, r2_[i], kScreenWidth, kScreenHeight, columns_);
+    col_lo_[i] = b.col_lo;
+    col_hi_[i] = b.col_hi;
+    rows[i] = {b.row_lo, b.row_hi};
   }
   order_.resize(n);
   for (std::size_t i = 0; i < n; ++i) order_[i] = static_cast<int>(i);
   balls_.assign(1, Ball{});
   if (n > 0) build_ball(0, 0, static_cast<int>(n));
 
-  row_start_.assign(kRows + 1, 0);
+  row_start_.assign(kScreenHeight + 1, 0);
   for (const auto& r : rows)
     for (int y = r[0]; y <= r[1]; ++y) ++row_start_[static_cast<std::size_t>(y) + 1];
-  for (int y = 0; y < kRows; ++y) row_start_[static_cast<std::size_t>(y) + 1] += row_start_[static_cast<std::size_t>(y)];
-  row_spheres_.resize(static_cast<std::size_t>(row_start_[kRows]));
+  for (int y = 0; y < kScreenHeight; ++y)
+    row_start_[static_cast<std::size_t>(y) + 1] += row_start_[static_cast<std::size_t>(y)];
+  row_spheres_.resize(static_cast<std::size_t>(row_start_[kScreenHeight]));
   std::vector<int> fill(row_start_.begin(), row_start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i)
     for (int y = rows[i][0]; y <= rows[i][1]; ++y)
@@ -151,7 +114,8 @@ void FastTracer::build_ball(std::size_t node, int first, int count) {
   for (int j = first; j < first + count; ++j) {
     const std::size_t i = member(j);
     const std::int64_t ox = cx_[i] - ball.cx, oy = cy_[i] - ball.cy, oz = cz_[i] - ball.cz;
-    radius = std::max(radius, ceil_sqrt(ox * ox + oy * oy + oz * oz) + scene_->geometry[i].radius);
+    const auto squared = static_cast<std::uint64_t>(ox * ox + oy * oy + oz * oz);
+    radius = std::max(radius, static_cast<std::int64_t>(core::ceil_isqrt(squared)) + scene_->geometry[i].radius);
   }
   ball.r2 = radius * radius;
   ball.first = first;
@@ -181,26 +145,26 @@ LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const 
   if (!narrow_) return controller_.render_line(row, scene, line);
 
   // Every camera ray of the row against the row's spheres, sphere by sphere over its columns. The ray of
-  // column col is d = (x, dy, 320) with x = col - 320: a = x^2 + e, b = 2u with u = d.c, c' as loaded, and
-  // D = b^2 - 4ac' = 4q with q = u^2 - a c'. |u| < 880 * 2^28 and a < 2^19, so u fits 64 bits and q 128.
-  const std::int64_t dy = row - kRows / 2;
-  const std::int64_t e = dy * dy + kImagePlane * kImagePlane;
-  std::array<int, kLineWidth> best;
-  std::array<std::int64_t, kLineWidth> best_num;
+  // column col is d = (x, dy, 320) (core::device_ray): a = x^2 + e, b = 2u with u = d.c = x c_x + u0, c' as
+  // loaded; the kernel's hit_num takes it from there. |u| < 880 * 2^28 and a < 2^19, so b fits 64 bits (as
+  // NarrowArith requires), and b^2, 4ac' < 2^80 fit 128.
+  const core::Vec3<std::int64_t> row_ray = core::device_ray<std::int64_t>(0, row);
+  const std::int64_t dy = row_ray.y;
+  const std::int64_t e = dy * dy + row_ray.z * row_ray.z;
+  std::array<int, kScreenWidth> best;
+  std::array<std::int64_t, kScreenWidth> best_num;
   best.fill(-1);
   for (int k = row_start_[static_cast<std::size_t>(row)]; k < row_start_[static_cast<std::size_t>(row) + 1]; ++k) {
     const auto i = static_cast<std::size_t>(row_spheres_[static_cast<std::size_t>(k)]);
     const std::int64_t cx = cx_[i];
-    const std::int64_t u0 = dy * cy_[i] + kImagePlane * cz_[i];
+    const std::int64_t u0 = dy * cy_[i] + row_ray.z * cz_[i];
     const std::int64_t c_prime = c_prime_[i];
     for (int col = col_lo_[i]; col <= col_hi_[i]; ++col) {
-      const std::int64_t x = col - kImagePlane;
+      const std::int64_t x = core::device_ray<std::int64_t>(col, row).x;
       const std::int64_t u = x * cx + u0;
       if (u <= 0) continue;  // b <= 0: num = b - sqrt(D) <= 0, behind the camera
-      const Int128 q = Int128{u} * u - Int128{x * x + e} * c_prime;
-      if (q < 0) continue;
-      const std::int64_t num = 2 * u - static_cast<std::int64_t>(arith_.sqrt_unit.closed_form(static_cast<UInt128>(4 * q)));
-      if (num <= 0) continue;
+      const std::int64_t num = core::hit_num(narrow_arith_, x * x + e, 2 * u, c_prime);
+      if (num <= 0) continue;  // a miss (or a hit behind the camera)
       const auto c = static_cast<std::size_t>(col);
       if (best[c] < 0 || num < best_num[c]) {  // ties keep the sphere sent first, as the plain search does
         best[c] = static_cast<int>(i);
@@ -220,9 +184,9 @@ LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const 
     // not reflect (shaded in 64 bits).
     if (best[c] < 0) return core::PixelTrace{core::kBackground, 0};
     if (preset_.max_bounces == 0 || !kernel_surface(scene, best[c]).metal) {
-      const core::KernelRay<std::int64_t> camera{{}, {col - kImagePlane, dy, kImagePlane}};
+      const core::KernelRay<std::int64_t> camera{{}, core::device_ray<std::int64_t>(col, row)};
       return core::PixelTrace{
-          core::normal_colour(CameraArith{}, camera, spheres[static_cast<std::size_t>(best[c])], best_num[c]), 0};
+          core::normal_colour(narrow_arith_, camera, spheres[static_cast<std::size_t>(best[c])], best_num[c]), 0};
     }
     const core::KernelHit<Int128> primary{best[c], Int128{best_num[c]}};
     return core::trace_pixel_with(
@@ -253,7 +217,12 @@ core::KernelHit<Int128> FastTracer::closest_hit(const core::KernelRay<Int128>& r
   const auto dx = static_cast<std::int64_t>(ray.direction.x);
   const auto dy = static_cast<std::int64_t>(ray.direction.y);
   const auto dz = static_cast<std::int64_t>(ray.direction.z);
+  for (int k = 0; k < 3; ++k) {
+    core::check_width(narrow_arith_, ray.origin[k], core::Width::kOrigin);
+    core::check_width(narrow_arith_, ray.direction[k], core::Width::kDirection);
+  }
   const std::int64_t a = dx * dx + dy * dy + dz * dz;
+  core::check_width(narrow_arith_, a, core::Width::kA);
   int best = -1;
   std::int64_t best_num = 0;
   std::array<int, 64> stack;  // depth-first; the hierarchy is at most 20 levels deep for a million spheres
@@ -276,13 +245,15 @@ core::KernelHit<Int128> FastTracer::closest_hit(const core::KernelRay<Int128>& r
       if (i == excluded) continue;
       const auto s = static_cast<std::size_t>(i);
       const std::int64_t ocx = cx_[s] - ox, ocy = cy_[s] - oy, ocz = cz_[s] - oz;
+      core::check_width(narrow_arith_, ocx, core::Width::kToCentre);
+      core::check_width(narrow_arith_, ocy, core::Width::kToCentre);
+      core::check_width(narrow_arith_, ocz, core::Width::kToCentre);
+      // The kernel's b = 2 d.oc and c' = oc.oc - r^2 (r^2 as loaded), then its quadratic.
       const std::int64_t b = 2 * (dx * ocx + dy * ocy + dz * ocz);
       if (b <= 0) continue;  // num = b - sqrt(D) <= 0
       const std::int64_t c_prime = ocx * ocx + ocy * ocy + ocz * ocz - r2_[s];
-      const Int128 disc = Int128{b} * b - Int128{4 * a} * c_prime;
-      if (disc < 0) continue;
-      const std::int64_t num = b - static_cast<std::int64_t>(arith_.sqrt_unit.closed_form(static_cast<UInt128>(disc)));
-      if (num <= 0) continue;
+      const std::int64_t num = core::hit_num(narrow_arith_, a, b, c_prime);
+      if (num <= 0) continue;  // a miss (or a hit behind the origin)
       // The smallest num, and on a tie the sphere sent first, whatever order the balls are visited in.
       if (best < 0 || num < best_num || (num == best_num && i < best)) {
         best = i;

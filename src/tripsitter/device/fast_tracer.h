@@ -7,14 +7,19 @@
 //    frame, and a line tests only the spheres whose rows hold it, each over its columns;
 //  - reflected rays search a hierarchy of balls around groups of spheres: a ray whose line misses a ball,
 //    or that finds the ball wholly behind its origin, hits none of the spheres inside;
-//  - 64-bit sums and products where the bounds below keep them under 2^63; 128 bits for b^2 and 4ac';
+//  - 64-bit sums and products where the bounds below keep them under 2^63; 128 bits for b^2 and 4ac'
+//    (NarrowArith). The quadratic of each ray and sphere is the kernel's own (core::hit_num), fed with
+//    coefficients shared among many rays, so the kernel's width checks cover the fast model too;
 //  - the square-root unit's closed form (SqrtUnit::closed_form) instead of its step-by-step recurrence.
 // The schedule is the controller's own (schedule_line). Worlds beyond the 64-bit bounds (a coordinate or
 // radius of kNarrowLimit raw units or more, possible only with formats wider than 29 bits) are traced by
 // the plain worker.
 #pragma once
 
+#include <algorithm>
+#include <cassert>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -26,6 +31,30 @@
 #include <tripsitter/device/worker.h>
 
 namespace tripsitter::device {
+
+// The kernel's arithmetic on the fast model's narrow paths (core/sphere_kernel.h): the same integers as
+// FixedArith's, with coordinates, sums and products of two lengths in 64 bits and only b^2, 4ac' and D in 128
+// (the bounds are in FastTracer::closest_hit and docs/device.md, "The fast model"). Enough for
+// core::hit_num and, for a camera ray, core::normal_colour (n_num < 2^48.2, 7 n_num + 7 den < 2^52); not for
+// reflecting. The square root is the unit's closed form; the checks are FixedArith's.
+struct NarrowArith {
+  using Coord = std::int64_t;
+  using Wide = std::int64_t;
+  using Square = core::Int128;
+
+  FixedArith fixed;  // the square-root unit, and the width checks with the preset's extra bits
+
+  void check(core::Int128 v, core::Width which) const { fixed.check(v, which); }
+  std::int64_t sqrt(Square d) const {
+    assert(d >= 0 && d < (Square{1} << 126));
+    return static_cast<std::int64_t>(fixed.sqrt_unit.closed_form(static_cast<core::UInt128>(d)));
+  }
+  static int floor_div(Wide n, Wide d) {
+    Wide q = n / d;
+    if (n < 0 && q * d != n) --q;
+    return static_cast<int>(std::clamp<Wide>(q, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+  }
+};
 
 class FastTracer {
  public:
@@ -62,6 +91,7 @@ class FastTracer {
   DevicePreset preset_;
   Controller controller_;
   FixedArith arith_;
+  NarrowArith narrow_arith_;  // arith_'s unit and checks, in 64 bits
   const SceneMemory* scene_ = nullptr;
   bool narrow_ = false;
   int columns_ = 0;  // columns that can be on time: workers * pixels_in_time (later ones are late for sure)

@@ -87,6 +87,34 @@ TEST(FastTracer, RowsEqualThePlainModelOnRandomWorlds) {
 
 // Worlds the random ones rarely hit exactly: spheres tangent to the camera's plane and to column and row
 // planes, a sphere through the camera, equal spheres (ties go to the one sent first), an empty world.
+// The fast model's 64-bit arithmetic runs the kernel's quadratic (core::hit_num) to the same num as the
+// device's 128-bit one. Coefficients within the wide preset's documented widths (docs/device.md), so that no
+// check fires in builds with TRIPSITTER_CHECK_FIXED.
+TEST(NarrowArith, GivesTheKernelsNumOfFixedArith) {
+  for (const DevicePreset& p : {wide_preset(), board_2023_preset(), wide_32_preset()}) {
+    const FixedArith fixed{SqrtUnit(p.sqrt_iterations), FixedArith::extra_bits_of(p)};
+    const NarrowArith narrow{fixed};
+    std::mt19937_64 rng(21);
+    int hits = 0;
+    for (int i = 0; i < 200000; ++i) {
+      // a < 2^40, |b| < 2^47 and |c'| <= 2^50: b^2, 4ac' < 2^95.
+      const int a_bits = 1 + static_cast<int>(rng() % 39), b_bits = 1 + static_cast<int>(rng() % 47);
+      const std::int64_t a = static_cast<std::int64_t>(rng() >> (64 - a_bits)) + 1;
+      const std::int64_t b = static_cast<std::int64_t>(rng() >> (64 - b_bits)) * (rng() % 4 == 0 ? -1 : 1);
+      // c' near b^2 / 4a, so that both hits and misses are common.
+      const auto near = static_cast<std::int64_t>(static_cast<double>(b) * static_cast<double>(b) / (4.0 * a));
+      const std::int64_t c_prime = std::clamp<std::int64_t>(
+          near + static_cast<std::int64_t>(rng() % 2001) - 1000 - static_cast<std::int64_t>(rng() % (near / 8 + 1)),
+          -(std::int64_t{1} << 50), std::int64_t{1} << 50);
+      const std::int64_t got = core::hit_num(narrow, a, b, c_prime);
+      const core::Int128 want = core::hit_num(fixed, core::Int128{a}, core::Int128{b}, core::Int128{c_prime});
+      ASSERT_TRUE(core::Int128{got} == want) << p.name << " a=" << a << " b=" << b << " c'=" << c_prime;
+      if (got > 0) ++hits;
+    }
+    EXPECT_GT(hits, 20000) << p.name;
+  }
+}
+
 TEST(FastTracer, RowsEqualThePlainModelOnEdgeWorlds) {
   const DevicePreset p = wide_preset();
   const std::int64_t s = 16;  // raw units per pixel unit

@@ -1,11 +1,13 @@
 #include <tripsitter/device/frame_lines.h>
 
+#include <tripsitter/core/screen.h>
+
 #include <tripsitter/core/parallel.h>
 
 namespace tripsitter::device {
 namespace {
 
-constexpr int kRows = 480;
+constexpr int kRows = core::kScreenHeight;
 
 }  // namespace
 

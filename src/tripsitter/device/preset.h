@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <tripsitter/core/fixed.h>
+#include <tripsitter/core/screen.h>
 #include <tripsitter/core/sphere_kernel.h>
 
 namespace tripsitter::device {
@@ -16,7 +17,7 @@ namespace tripsitter::device {
 inline constexpr int kDeviceClockHz = 100'000'000;
 inline constexpr int kPixelClockHz = 25'000'000;
 inline constexpr int kCyclesPerPixelClock = kDeviceClockHz / kPixelClockHz;  // 4
-inline constexpr int kLineWidth = 640;
+inline constexpr int kLineWidth = core::kScreenWidth;
 inline constexpr int kLineCycles = 800 * kCyclesPerPixelClock;               // 3200 device cycles per line
 
 // What one worker spends, in device cycles. A pixel's ray is tested against every sphere in turn (a pass);

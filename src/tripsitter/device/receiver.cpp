@@ -63,7 +63,9 @@ void Receiver::accept_v1(const link::V1Sphere& word) {
   const std::uint8_t r = static_cast<std::uint8_t>(((word.colour >> 8) & 0xF) * 17);
   const std::uint8_t g = static_cast<std::uint8_t>(((word.colour >> 4) & 0xF) * 17);
   const std::uint8_t b = static_cast<std::uint8_t>((word.colour & 0xF) * 17);
-  back_.surfaces.assign(1, SurfaceWord{link::kMaterialLambertian, {r, g, b}, 0, 6144});
+  // A v1 word carries no ior: scene memory holds a scene material's default, 1.5, in the v2 wire's u4.12.
+  constexpr auto kIor = static_cast<std::uint16_t>(1.5 * link::kV2IorScale);
+  back_.surfaces.assign(1, SurfaceWord{link::kMaterialLambertian, {r, g, b}, 0, kIor});
   back_.sequence = ++v1_words_;
   back_.valid = true;
   if (pending_) ++stats_.worlds_replaced;

@@ -1,18 +1,8 @@
 #include <tripsitter/device/sqrt_unit.h>
 
-#include <bit>
 #include <stdexcept>
 
 namespace tripsitter::device {
-namespace {
-
-int bit_length(core::UInt128 v) {
-  const auto hi = static_cast<std::uint64_t>(v >> 64);
-  if (hi != 0) return 128 - std::countl_zero(hi);
-  return 64 - std::countl_zero(static_cast<std::uint64_t>(v));
-}
-
-}  // namespace
 
 SqrtUnit::SqrtUnit(int iterations) : iterations_(iterations) {
   if (iterations < 1 || iterations > kMaxSqrtIterations) throw std::invalid_argument("sqrt iterations out of range");
@@ -40,17 +30,6 @@ core::Int128 SqrtUnit::operator()(core::UInt128 input) const {
     }
   }
   return denormalise(x, in.e);
-}
-
-std::uint64_t exact_isqrt(core::UInt128 v) {
-  if (v == 0) return 0;
-  // Newton's method from an over-estimate converges monotonically down to floor(sqrt(v)).
-  core::UInt128 x = core::UInt128{1} << ((bit_length(v) + 1) / 2);
-  while (true) {
-    const core::UInt128 y = (x + v / x) / 2;
-    if (y >= x) return static_cast<std::uint64_t>(x);
-    x = y;
-  }
 }
 
 }  // namespace tripsitter::device

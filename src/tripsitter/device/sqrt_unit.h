@@ -15,15 +15,15 @@
 // register as an integer. For N >= 2 the visited x_k are the inner nodes of a binary search tree whose nodes
 // are the even integers and whose leaves the odd ones, so x_N is the odd integer 2j + 1 with
 // 2j < sqrt(M) <= 2j + 2: j = floor(isqrt(M - 1) / 2). For N = 1, x_1 = 2 if M > 1, else 0.
-// `closed_form` computes that; sqrt_unit_test.cpp checks it against the recurrence for every register
-// value with N <= 12 and around every leaf boundary for N = 16.
+// `closed_form` computes that with core::isqrt (core/isqrt.h); sqrt_unit_test.cpp checks it against the
+// recurrence for every register value with N <= 12 and around every leaf boundary for N = 16.
 #pragma once
 
 #include <bit>
-#include <cmath>
 #include <cstdint>
 
 #include <tripsitter/core/fixed.h>
+#include <tripsitter/core/isqrt.h>
 
 namespace tripsitter::device {
 
@@ -44,7 +44,7 @@ class SqrtUnit {
     if (iterations_ == 1) {
       x = in.m > 1 ? 2 : 0;
     } else {
-      x = 2 * (isqrt(in.m - 1) / 2) + 1;
+      x = 2 * (core::isqrt(in.m - 1) / 2) + 1;
     }
     return denormalise(x, in.e);
   }
@@ -69,18 +69,7 @@ class SqrtUnit {
     const int drop = -out_shift;
     return static_cast<core::Int128>((x + (std::uint64_t{1} << (drop - 1))) >> drop);
   }
-  // floor(sqrt(v)) for v < 2^60: the double estimate is off by at most one, and the loops make it exact.
-  static std::uint64_t isqrt(std::uint64_t v) {
-    auto s = static_cast<std::uint64_t>(std::sqrt(static_cast<double>(v)));
-    while (s * s > v) --s;
-    while ((s + 1) * (s + 1) <= v) ++s;
-    return s;
-  }
-
   int iterations_;
 };
-
-// Exact floor(sqrt(v)), the reference the tests compare the unit against.
-std::uint64_t exact_isqrt(core::UInt128 v);
 
 }  // namespace tripsitter::device

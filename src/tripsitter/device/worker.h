@@ -12,6 +12,7 @@
 
 #include <tripsitter/core/fixed.h>
 #include <tripsitter/core/rgb444.h>
+#include <tripsitter/core/screen.h>
 #include <tripsitter/core/sphere_kernel.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/scene_memory.h>
@@ -143,8 +144,8 @@ struct FixedArith {
   }
 };
 
-// The ray of the pixel in column col (0..639) and row (0..479): (col - 320, row - 240, 320).
-inline core::Vec3<core::Int128> device_ray(int col, int row) { return {col - 320, row - 240, 320}; }
+// The ray of the pixel in column col (0..639) and row (0..479): (col - 320, row - 240, 320) (core/screen.h).
+using core::device_ray;
 
 // Sphere i's surface as the kernel sees it: lambertian when scene memory holds no surface for it.
 inline core::KernelSurface kernel_surface(const SceneMemory& scene, int i) {

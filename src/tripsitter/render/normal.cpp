@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <tripsitter/core/parallel.h>
+#include <tripsitter/core/screen.h>
 
 namespace tripsitter::render {
 namespace {
@@ -32,11 +33,11 @@ KernelWorld kernel_world(std::span<const scene::Sphere> view_spheres, int max_bo
 
 // The camera ray of pixel (col, row): (col - width/2, row - height/2, width/2), integer halves.
 core::Vec3d camera_dir(int col, int row, int width, int height) {
-  return {double(col - width / 2), double(row - height / 2), double(width / 2)};
+  return core::pixel_ray<double>(col, row, width, height);
 }
 
-// Screen-space bounds. The camera rays of column col all lie in one plane through the eye, the column's plane,
-// with normal (f, 0, -(col - width/2)), f = width/2; those of row `row` in the row's plane, normal
+// Screen-space bounds (core/screen.h). The camera rays of column col all lie in one plane through the eye, the
+// column's plane, with normal (f, 0, -(col - width/2)), f = width/2; those of row `row` in the row's plane, normal
 // (0, f, -(row - height/2)). A ray that meets a sphere passes within its radius of the centre, and so does every
 // plane holding the ray. The kernel decides on the sign of its discriminant b^2 - 4ac', which is 4a (r^2 - s^2)
 // for a ray at distance s from the centre; computed in double it is off by less than 6e-15 a (|oc|^2 + r^2)
@@ -46,38 +47,14 @@ core::Vec3d camera_dir(int col, int row, int width, int height) {
 // finds a hit on.
 constexpr double kMargin = 1e-9;
 
-// Whether the plane through the eye with normal (f, -offset) in the (across, depth) coordinates meets the sphere
-// whose centre lies at (across, depth), r2 being radius^2 + the margin.
-bool plane_meets(double across, double depth, double r2, double f, double offset) {
-  const double side = f * across - offset * depth;
-  return side * side <= r2 * (f * f + offset * offset);
-}
+using core::ScreenBounds;
 
-// The hull [lo, hi] of the indices in [0, count) whose plane (offset = index - centre) meets the sphere; lo > hi
-// when none does. The meeting planes of a pencil are an interval of angles, which may wrap through the plane
-// z = 0: the hull then holds planes between that do not meet the sphere, which only costs tests.
-std::array<int, 2> meeting_range(double across, double depth, double r2, double f, int count, int centre) {
-  int lo = count, hi = -1;
-  for (int i = 0; i < count; ++i) {
-    if (!plane_meets(across, depth, r2, f, double(i - centre))) continue;
-    lo = std::min(lo, i);
-    hi = i;
-  }
-  return {lo, hi};
-}
-
-// The columns and rows a sphere's camera-ray hits can lie in (inclusive; empty when lo > hi).
-struct ScreenBounds {
-  int col_lo, col_hi, row_lo, row_hi;
-};
-
+// The columns and rows a sphere's camera-ray hits can lie in (inclusive; empty when lo > hi): the planes' test in
+// double, r2 being radius^2 plus the margin above.
 ScreenBounds screen_bounds(const core::KernelSphere<double>& s, int width, int height) {
   const core::Vec3d& c = s.center;
   const double r2 = s.radius * s.radius + kMargin * (dot(c, c) + s.radius * s.radius);
-  const double f = double(width / 2);
-  const auto cols = meeting_range(c.x, c.z, r2, f, width, width / 2);
-  const auto rows = meeting_range(c.y, c.z, r2, f, height, height / 2);
-  return {cols[0], cols[1], rows[0], rows[1]};
+  return core::screen_bounds<double>(c, r2, width, height, width);
 }
 
 constexpr int kTile = 8;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 
+#include <tripsitter/core/albedo.h>
 #include <tripsitter/core/image.h>
 #include <tripsitter/core/sphere_kernel.h>
 #include <tripsitter/scene/scene.h>
@@ -35,14 +36,13 @@ struct DoubleArith {
   }
 };
 
-// The albedo bytes both sides mix with: round(a * 255) of a clamped to [0, 1], as the host sends them.
-inline std::uint8_t albedo_byte(double a) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(a, 0.0, 1.0) * 255.0));
-}
+// The albedo bytes both sides mix with: round(a * 255) of a clamped to [0, 1], as the host sends them
+// (core/albedo.h).
+using core::albedo_byte;
 
 // Renders view-space spheres (pixel units, as the host computes them). The pixel in column col and row
-// row shoots (col - width/2, row - height/2, width/2) (integer halves): for 640x480 exactly the device's
-// rays, and a 90 degree horizontal field of view at every size. Metals reflect up to max_bounces times
+// row shoots core::pixel_ray (col - width/2, row - height/2, width/2) (integer halves, core/screen.h): for
+// 640x480 exactly the device's rays, and a 90 degree horizontal field of view at every size. Metals reflect up to max_bounces times
 // (0: every sphere is normal-map shaded, the board's image); other materials are normal-map shaded.
 // REQUIRES 0 <= max_bounces <= core::kMaxBounces.
 core::Image444 render_normal(std::span<const scene::Sphere> view_spheres, int width, int height, int max_bounces = 0);

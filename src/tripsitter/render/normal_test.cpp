@@ -64,15 +64,6 @@ TEST(RenderNormal, OtherSizesKeepANinetyDegreeHorizontalView) {
 
 // --- The mirror model (docs/device.md) ---
 
-TEST(RenderMirror, AlbedoBytesRoundAsTheHostSendsThem) {
-  EXPECT_EQ(albedo_byte(0.0), 0);
-  EXPECT_EQ(albedo_byte(0.5), 128);  // 127.5 rounds away from zero
-  EXPECT_EQ(albedo_byte(2.0 / 3.0), 170);
-  EXPECT_EQ(albedo_byte(1.0), 255);
-  EXPECT_EQ(albedo_byte(1.5), 255);
-  EXPECT_EQ(albedo_byte(-0.2), 0);
-}
-
 TEST(RenderMirror, TheCentreOfAMetalSphereReflectsTheBackgroundTinted) {
   const std::vector<scene::Sphere> world{metal(0, 0, 400, 64, {1.0, 2.0 / 3.0, 0.5})};
   // (0, 3, 6) times (255, 170, 128) / 255, floored.
