@@ -40,6 +40,8 @@ SceneMemory limit_world(const DevicePreset& p, std::mt19937_64& rng) {
 }
 
 TEST(FixedChecks, NoneFiresOnValidWorlds) {
+  // Without the checks compiled in nothing could fire, and the test could not fail.
+  if (!kCheckFixed) GTEST_SKIP() << "built without TRIPSITTER_CHECK_FIXED";
   std::mt19937_64 rng(8);
   for (const DevicePreset& p : {with_bounces(wide_preset(), core::kMaxBounces), board_2023_preset(),
                                 with_bounces(board_2023_preset(), 2), with_bounces(wide_32_preset(), core::kMaxBounces)}) {
@@ -101,6 +103,20 @@ TEST(FixedChecks, FireOnWorldsBeyondTheFormats) {
   const SceneMemory point = world({{-220 * 16, -200 * 16, 320 * 16}, 0});
   EXPECT_THROW(worker.trace(100, 40, point), core::FixedPointOverflow);
   EXPECT_THROW(fast.load(point), core::FixedPointOverflow);
+}
+
+// The fast model's arithmetic checks the kernel's intermediates as the plain worker's does, products in 128
+// bits included.
+TEST(FixedChecks, FireInTheFastModelsArithmetic) {
+  if (!kCheckFixed) GTEST_SKIP() << "built without TRIPSITTER_CHECK_FIXED";
+  const NarrowArith narrow{FixedArith{SqrtUnit(16), FixedArith::extra_bits_of(wide_preset())}};
+  const std::int64_t a = std::int64_t{1} << 43, c_prime = std::int64_t{1} << 50;
+  EXPECT_NO_THROW(core::hit_num(narrow, std::int64_t{1000}, std::int64_t{1} << 47, c_prime));
+  EXPECT_THROW(core::hit_num(narrow, std::int64_t{1000}, std::int64_t{1} << 48, c_prime), core::FixedPointOverflow);
+  EXPECT_THROW(core::hit_num(narrow, std::int64_t{1000}, std::int64_t{1000}, std::int64_t{1} << 51),
+               core::FixedPointOverflow);
+  EXPECT_NO_THROW(core::hit_num(narrow, a - 1, std::int64_t{1000}, c_prime));
+  EXPECT_THROW(core::hit_num(narrow, a, std::int64_t{1000}, c_prime), core::FixedPointOverflow);  // 4ac' = 2^95
 }
 
 // A reflected ray whose direction was not scaled down breaks the direction's bound in the next pass.
