@@ -11,7 +11,7 @@
 # not part of the set: the path tracer runs with --quiet.
 set -euo pipefail
 
-bin=${1:?usage: $0 BIN [--check FILE]}
+bin=$(realpath "${1:?usage: $0 BIN [--check FILE]}")
 check=""
 if [ "${2:-}" = --check ]; then check=$(realpath "${3:?--check needs a file}"); fi
 root=$(cd "$(dirname "$0")/.." && pwd)

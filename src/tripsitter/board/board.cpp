@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include <tripsitter/board/capture.h>
+
 namespace tripsitter::board {
 
 link::SceneFormats formats_of(const device::DevicePreset& preset) {
@@ -17,24 +19,15 @@ Board::Board(scene::Scene scene, BoardConfig config)
 ShownFrame Board::show(const std::function<void(const device::VgaSample&)>& probe) {
   const host::ReadyWorld& world = host_.update();
   link_.submit(world.bytes);
-  const auto run = [&] {
-    return device_.run_frame_lines([&](std::span<const device::VgaSample> line) {
-      for (const device::VgaSample& s : line) monitor_.sample(s);
-      if (probe)
-        for (const device::VgaSample& s : line) probe(s);
-    });
-  };
   // A device still holding an earlier world for its next blanking lowers ready: let it show that one first.
   for (int tries = 0; !link_.pump(device_); ++tries) {
     if (tries == 2) throw std::logic_error("device never raised its ready line");
-    run();
-    monitor_.take_frame();
+    capture_frame(device_, monitor_, probe);
   }
+  CapturedFrame captured = capture_frame(device_, monitor_, probe);
   ShownFrame shown;
-  shown.device = run();
-  auto frame = monitor_.take_frame();
-  if (!frame) throw std::logic_error("monitor did not capture a frame");
-  shown.image = std::move(*frame);
+  shown.device = captured.stats;
+  shown.image = std::move(captured.image);
   shown.saturations = world.saturations;
   shown.link_bytes = world.bytes.size();
   shown.link_seconds = link_.seconds_for(world.bytes.size());

@@ -41,6 +41,7 @@ class Board {
   Board(scene::Scene scene, BoardConfig config);
 
   host::Host& host() { return host_; }
+  const host::Host& host() const { return host_; }
   device::Device& device() { return device_; }
   const link::SpiLink& link() const { return link_; }
 

@@ -78,7 +78,7 @@ core::ImageDiff diff_against_reference(const scene::Scene& s, device::DevicePres
   Board b(s, {preset, link::WireVersion::kV2, {}});
   const ShownFrame f = b.show();
   EXPECT_EQ(f.device.late_pixels, 0) << s.name;
-  const core::Image444 ref = render::render_normal(b.host().ready().view_spheres, 640, 480, preset.max_bounces);
+  const core::Image444 ref = render::render_normal(b.host().view(), 640, 480, preset.max_bounces);
   const core::ImageDiff d = core::diff(f.image, ref);
   std::printf("%-12s max_bounces %d: %6zu pixels differ, %5zu by more than one level, at most %2d levels\n",
               s.name.c_str(), preset.max_bounces, d.differing, d.over_one_level, d.max_level_difference);
@@ -141,7 +141,7 @@ TEST(Board, ReflectedPixelsStayCloseToTheFloatReference) {
     Board b(s, {});
     b.show();
     const device::DevicePreset& p = b.device().preset();
-    const core::Image444 ref = render::render_normal(b.host().ready().view_spheres, 640, 480, p.max_bounces);
+    const core::Image444 ref = render::render_normal(b.host().view(), 640, 480, p.max_bounces);
     const device::Worker w(p);
     for (int row = 0; row < 480; ++row)
       for (int col = 0; col < 640; ++col) {
@@ -243,7 +243,7 @@ TEST(Board, FastNormalFramesEqualTheReferenceOnTheBuiltInScenes) {
   for (const char* name : {"demo", "cluster", "field"}) {
     Board b(*scene::builtin(name), {});
     b.host().camera().orbit(0.3);
-    const auto& spheres = b.host().update().view_spheres;
+    const std::vector<scene::Sphere> spheres = b.host().view();
     for (int bounces : {0, 3}) {
       EXPECT_EQ(render::render_normal_fast(spheres, 320, 240, bounces).pixels,
                 render::render_normal(spheres, 320, 240, bounces).pixels)

@@ -15,9 +15,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include <tripsitter/board/board.h>
 #include <tripsitter/core/parallel.h>
 #include <tripsitter/frontend/app.h>
+#include <tripsitter/modes/frame_source.h>
 #include <tripsitter/render/path_tracer.h>
 #include <tripsitter/render/primary.h>
 #include <tripsitter/scene/builtin.h>
@@ -172,10 +172,10 @@ std::vector<int> thread_counts(const BenchOptions& o) {
 // hw: frames through host -> link -> device -> VGA capture.
 void bench_hw(const BenchOptions& o, Report& r, const std::string& figure, const scene::Scene& scene) {
   for (int t : thread_counts(o)) {
-    board::BoardConfig config;
+    modes::SourceConfig config;
     config.device_threads = t;
-    board::Board b(scene, config);
-    r.add(figure, t, median_rate(o, [&] { b.show(); return 1.0; }), "frames/s");
+    const std::unique_ptr<modes::FrameSource> board = modes::make_frame_source(scene, config);
+    r.add(figure, t, median_rate(o, [&] { board->draw(); return 1.0; }), "frames/s");
   }
 }
 
@@ -251,7 +251,7 @@ void bench_path_interactive(const BenchOptions& o, Report& r, const std::string&
   for (int t : thread_counts(o)) {
     frontend::AppConfig config;
     config.scene = sc;
-    config.mode = frontend::Mode::kPath;
+    config.mode = modes::Mode::kPath;
     config.threads = t;
     frontend::App app(config);
     r.add(figure, t, median_rate(o, [&] { app.advance(0.0); return 1.0; }), "frames/s");
@@ -278,15 +278,15 @@ int run_suite(const BenchOptions& o) {
   return kExitOk;
 }
 
-int run_scene(const BenchOptions& o) {
+int run_scene(const BenchOptions& o, modes::Mode mode) {
   // Loaded before anything is printed, so that a bad scene file gives its error alone.
   auto start = Clock::now();
   const scene::Scene sc = load_scene(o.scene);
   const double load = seconds_since(start);
   Report r(o);
-  r.note("scene", {{"name", o.scene}, {"spheres", sc.spheres.size()}, {"mode", o.mode}, {"load_seconds", load}});
+  r.note("scene", {{"name", o.scene}, {"spheres", sc.spheres.size()}, {"mode", std::string(modes::mode_name(mode))}, {"load_seconds", load}});
   if (!o.json) std::printf("scene %s: %zu spheres, loaded in %.3f s\n", o.scene.c_str(), sc.spheres.size(), load);
-  if (o.mode == "hw") {
+  if (mode == modes::Mode::kHw) {
     bench_hw(o, r, "hw_fps", sc);
   } else {
     start = Clock::now();
@@ -294,7 +294,7 @@ int run_scene(const BenchOptions& o) {
     const double build = seconds_since(start);
     r.note("build_seconds", build);
     if (!o.json) std::printf("BVH built in %.3f s\n", build);
-    if (o.mode == "normal") bench_primary(o, r, "primary_mrays", scene, sc.camera);
+    if (mode == modes::Mode::kNormal) bench_primary(o, r, "primary_mrays", scene, sc.camera);
     else bench_path(o, r, "path_msamples", scene, sc);
   }
   r.finish();
@@ -329,10 +329,9 @@ void add_bench_command(CLI::App& app, Action& run) {
   cmd->callback([o, cmd, &run] {
     const bool mode_given = cmd->count("--mode") > 0;
     run = [o, mode_given] {
-      if (o->mode != "hw" && o->mode != "normal" && o->mode != "path")
-        throw InputError("--mode must be hw, normal or path, not '" + o->mode + "'");
+      const modes::Mode mode = parse_mode(o->mode);
       if (o->scene.empty() && mode_given) throw InputError("--mode needs --scene FILE");
-      return o->scene.empty() ? run_suite(*o) : run_scene(*o);
+      return o->scene.empty() ? run_suite(*o) : run_scene(*o, mode);
     };
   });
 }

@@ -8,6 +8,7 @@
 
 #include <tripsitter/device/preset.h>
 #include <tripsitter/link/wire.h>
+#include <tripsitter/modes/mode.h>
 #include <tripsitter/scene/scene.h>
 
 namespace tripsitter::cmd {
@@ -28,6 +29,9 @@ scene::Scene load_scene(const std::string& name_or_path);
 device::DevicePreset load_preset(const std::string& name, int workers, int bounces = -1);
 
 link::WireVersion parse_wire(const std::string& name);
+
+// --mode's value; throws InputError for an unknown one.
+modes::Mode parse_mode(const std::string& name);
 
 // All bytes of a file, or of standard input for "-"; throws InputError.
 std::vector<std::uint8_t> read_bytes(const std::string& path);

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include <tripsitter/board/capture.h>
 #include <tripsitter/display/monitor.h>
 #include <tripsitter/display/png.h>
 
@@ -26,9 +27,9 @@ bool PngFrameSink::show(const core::Image444& image, const FrameInfo& info) {
   return true;
 }
 
-DeviceLoopResult run_device_loop(device::Device& device, link::StreamPort& port, FrameSink& sink,
+DeviceLoopResult run_device_loop(device::Device& device, transport::StreamPort& port, FrameSink& sink,
                                  const DeviceLoopConfig& config, const volatile std::sig_atomic_t& stop) {
-  using Clock = link::StreamClock;
+  using Clock = transport::StreamClock;
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(config.frame_seconds));
   DeviceStreamEndpoint endpoint(device);
   display::VgaMonitor monitor;
@@ -39,12 +40,11 @@ DeviceLoopResult run_device_loop(device::Device& device, link::StreamPort& port,
     FrameInfo info;
     info.frame = result.frames;
     info.new_world = !device.ready();  // a world waits: the frame's vertical blanking swaps it in
-    info.stats = device.run_frame([&](const device::VgaSample& s) { monitor.sample(s); });
-    std::optional<core::Image444> image = monitor.take_frame();
-    if (!image) throw std::logic_error("the monitor did not capture the device's frame");
+    board::CapturedFrame captured = board::capture_frame(device, monitor);
+    info.stats = captured.stats;
     ++result.frames;
     if (info.new_world) ++result.new_worlds;
-    if (!sink.show(*image, info)) break;
+    if (!sink.show(captured.image, info)) break;
     port.service(endpoint);  // only now may the credit say the world was taken
     due += period;
     const auto now = Clock::now();

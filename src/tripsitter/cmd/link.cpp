@@ -35,7 +35,7 @@ int run_encode(const LinkOptions& o) {
   const auto& world = host.update();
   std::fwrite(world.bytes.data(), 1, world.bytes.size(), stdout);
   if (std::fflush(stdout) != 0) throw std::runtime_error("writing standard output failed");
-  std::cerr << "encoded " << world.view_spheres.size() << " spheres as " << world.bytes.size() << " bytes ("
+  std::cerr << "encoded " << world.spheres << " spheres as " << world.bytes.size() << " bytes ("
             << o.wire << ", " << world.saturations.total() << " saturated values)\n";
   return kExitOk;
 }

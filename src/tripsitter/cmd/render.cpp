@@ -10,12 +10,14 @@
 #include <optional>
 #include <system_error>
 
-#include <tripsitter/board/board.h>
+#include <tripsitter/board/capture.h>
+#include <tripsitter/core/progress.h>
+#include <tripsitter/core/screen.h>
+#include <tripsitter/device/device.h>
+#include <tripsitter/display/monitor.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/display/vcd.h>
-#include <tripsitter/core/progress.h>
-#include <tripsitter/render/normal.h>
-#include <tripsitter/render/path_tracer.h>
+#include <tripsitter/modes/animation.h>
 #include <tripsitter/scene/builtin.h>
 
 #include "commands.h"
@@ -52,46 +54,22 @@ void check_pattern(const std::string& pattern) {
     throw InputError("--out " + pattern + ": with --frames it needs exactly one %d (or %04d) for the frame number");
 }
 
-// The VCD file is opened before rendering, so a bad path fails before any work; it is removed again if
-// the render fails.
-class VcdCapture {
- public:
-  VcdCapture(const std::string& path, int lines) : path_(path), limit_(std::int64_t{lines} * 800) {
-    if (path.empty()) return;
-    file_.open(path, std::ios::binary | std::ios::trunc);
-    if (!file_) throw InputError(path + ": cannot open for writing");
-    writer_ = std::make_unique<display::VcdWriter>(file_);
-  }
-  ~VcdCapture() {
-    if (!path_.empty() && !kept_) {
-      file_.close();
-      std::remove(path_.c_str());
-    }
-  }
-  std::function<void(const device::VgaSample&)> probe() {
-    if (!writer_) return {};
-    return [this](const device::VgaSample& s) {
-      if (static_cast<std::int64_t>(writer_->samples()) < limit_) writer_->sample(s);
-    };
-  }
-  void keep() {
-    if (path_.empty()) return;
-    writer_->finish();
-    file_.close();
-    if (!file_) throw InputError(path_ + ": write failed");
-    kept_ = true;
-    std::cerr << "wrote " << path_ << " (" << writer_->samples() << " pixel clocks)\n";
-  }
+// The --vcd file, opened before rendering so that a bad path fails before any work; null without --vcd.
+std::unique_ptr<display::VcdFile> open_vcd(const RenderOptions& o) {
+  if (o.vcd.empty()) return nullptr;
+  auto file = display::VcdFile::open(o.vcd, static_cast<std::uint64_t>(o.lines) * device::kVga640x480.h_total());
+  if (!file) throw InputError(file.error().message);
+  return std::move(file).value();
+}
 
- private:
-  std::string path_;
-  std::int64_t limit_;
-  std::ofstream file_;
-  std::unique_ptr<display::VcdWriter> writer_;
-  bool kept_ = false;
-};
+void keep(display::VcdFile* vcd, const std::string& path) {
+  if (vcd == nullptr) return;
+  auto kept = vcd->keep();
+  if (!kept) throw InputError(kept.error().message);
+  std::cerr << "wrote " << path << " (" << kept.value() << " pixel clocks)\n";
+}
 
-void report(const board::ShownFrame& f) {
+void report(const modes::Frame& f) {
   std::cerr << "device: " << f.device.late_pixels << " late pixels on " << f.device.late_lines << " lines\n"
             << "link: " << f.link_bytes << " bytes, " << f.link_seconds * 1e3 << " ms at the SPI clock\n"
             << "host: " << f.saturations.total() << " saturated values\n";
@@ -103,51 +81,59 @@ std::uint64_t samples_of(const render::PathSettings& s) {
   return s.row_samples() * static_cast<std::uint64_t>(s.height);
 }
 
-// --frames N --orbit DEG: the camera circles its target by DEG over the N frames (frame i at i * DEG / N,
-// so 360 loops), each frame through the same path as a still.
-int run_animation(const RenderOptions& o, scene::Scene scene, const device::DevicePreset& preset,
-                  link::WireVersion wire) {
-  const bool path_mode = o.mode == "path";
-  const int width = o.mode == "hw" ? 640 : (o.width != 0 ? o.width : scene.render.width);
-  const int height = o.mode == "hw" ? 480 : (o.height != 0 ? o.height : scene.render.height);
-  std::unique_ptr<render::PathScene> path_scene;
-  if (path_mode) path_scene = std::make_unique<render::PathScene>(scene.spheres);
-  const scene::CameraSettings camera = scene.camera;
-  const render::PathSettings settings = path_settings(o, scene);
-  board::Board b(std::move(scene), {preset, wire, {o.transfer_bytes, o.spi_hz}});
-  VideoPipe video(o.video, width, height);
+// --frames N --orbit DEG: the camera circles its target by DEG over the N frames, each frame through the same
+// road as a still.
+int run_animation(const RenderOptions& o, modes::Mode mode, const scene::Scene& scene) {
+  const modes::SourceConfig config = source_config(o, mode, scene);
+  const std::unique_ptr<modes::FrameSource> source = modes::make_frame_source(scene, config);
+  const std::unique_ptr<display::VideoPipe> video = open_video(o, config.width, config.height);
   core::ProgressBar bar("animation", static_cast<std::uint64_t>(o.frames), "frames", !o.quiet, std::cerr);
-  for (int i = 0; i < o.frames; ++i) {
-    if (i > 0) b.host().camera().orbit(o.orbit / o.frames);
-    const std::string file = frame_path(o.out, i);
-    core::ImageRgb8 rgb;
-    if (o.mode == "hw") {
-      const board::ShownFrame shown = b.show();
-      write_quietly(file, shown.image);
-      rgb = core::to_rgb8(shown.image);
-    } else if (o.mode == "normal") {
-      const core::Image444 img =
-          render::render_normal_fast(b.host().update().view_spheres, width, height, preset.max_bounces, o.threads);
-      write_quietly(file, img);
-      rgb = core::to_rgb8(img);
-    } else {
-      rgb = render_path_frame(*path_scene, camera, b.host().camera(), settings);
-      write_quietly(file, rgb);
-    }
-    video.add(rgb);
+  modes::animate(*source, o.frames, o.orbit, {}, [&](int i, const modes::Frame* frame) {
+    write_quietly(frame_path(o.out, i), *frame);
+    if (video) video->add(frame->rgb8());
     bar.add(1);
-  }
+  });
   bar.finish();
-  video.finish();
+  if (video) video->finish(std::cerr);
   std::cerr << "wrote " << o.frames << " frames, " << frame_path(o.out, 0) << " to " << frame_path(o.out, o.frames - 1)
             << "\n";
+  return kExitOk;
+}
+
+// --link-input: the device alone, fed raw link bytes as a real host would send them.
+int run_device_alone(const RenderOptions& o) {
+  const std::vector<std::uint8_t> bytes = read_bytes(o.link_input);
+  const std::unique_ptr<display::VcdFile> vcd = open_vcd(o);
+  device::Device dev(load_preset(o.preset, o.workers, o.bounces), parse_wire(o.wire));
+  display::VgaMonitor monitor;
+  const std::span<const std::uint8_t> all(bytes);
+  for (std::size_t at = 0; at < all.size(); at += o.transfer_bytes)
+    dev.transfer(all.subspan(at, std::min(o.transfer_bytes, all.size() - at)));
+  dev.end_of_stream();
+  board::CapturedFrame captured = board::capture_frame(dev, monitor, [&vcd](const device::VgaSample& s) {
+    if (vcd) vcd->sample(s);
+  });
+  const auto& rx = dev.receiver_stats();
+  std::cerr << "device: " << rx.worlds_accepted << " worlds accepted, " << rx.worlds_missing
+            << " missing (sequence numbers skipped), " << rx.frames_rejected
+            << " frames rejected, " << rx.garbage_runs << " runs of garbage (" << rx.bytes_dropped
+            << " bytes dropped)\n";
+  if (!captured.stats.has_world)
+    throw InputError(o.link_input + ": no intact world in " + std::to_string(bytes.size()) + " bytes" +
+                     (rx.last_error.empty() ? "" : " (last error: " + rx.last_error + ")"));
+  std::cerr << "device: showing world " << captured.stats.sequence << ", " << captured.stats.late_pixels
+            << " late pixels on " << captured.stats.late_lines << " lines\n";
+  modes::Frame frame;
+  frame.vga = std::move(captured.image);
+  write_image(o.out, frame);
+  keep(vcd.get(), o.vcd);
   return kExitOk;
 }
 
 int run_render(const RenderOptions& o) {
   const MpirunPlace place = mpirun_place();
 #ifdef TRIPSITTER_WITH_MPI
-  if (place.size > 0 && o.mode == "path") return run_render_mpi(o);
+  if (place.size > 0 && modes::mode_by_name(o.mode) == modes::Mode::kPath) return run_render_mpi(o);
   const std::string refusal = "--mode " + o.mode + " under mpirun: only --mode path shares its work among MPI ranks; run " +
                               o.mode + " without mpirun";
 #else
@@ -161,88 +147,50 @@ int run_render(const RenderOptions& o) {
     if (place.rank != 0) return kExitBadInput;
     throw InputError(refusal);
   }
-  check_options(o);
+  const modes::Mode mode = parse_mode(o.mode);
+  check_options(o, mode);
   check_outputs(o);
-  const link::WireVersion wire = parse_wire(o.wire);
-  const device::DevicePreset preset = load_preset(o.preset, o.workers, o.bounces);
+  if (!o.link_input.empty()) return run_device_alone(o);
 
-  if (!o.link_input.empty()) {
-    // The device alone, fed raw link bytes as a real host would send them.
-    const std::vector<std::uint8_t> bytes = read_bytes(o.link_input);
-    VcdCapture vcd(o.vcd, o.lines);
-    device::Device dev(preset, wire);
-    display::VgaMonitor monitor;
-    const std::span<const std::uint8_t> all(bytes);
-    for (std::size_t at = 0; at < all.size(); at += o.transfer_bytes)
-      dev.transfer(all.subspan(at, std::min(o.transfer_bytes, all.size() - at)));
-    dev.end_of_stream();
-    auto probe = vcd.probe();
-    const device::FrameStats stats = dev.run_frame([&](const device::VgaSample& s) {
-      monitor.sample(s);
-      if (probe) probe(s);
-    });
-    const auto& rx = dev.receiver_stats();
-    std::cerr << "device: " << rx.worlds_accepted << " worlds accepted, " << rx.worlds_missing
-              << " missing (sequence numbers skipped), " << rx.frames_rejected
-              << " frames rejected, " << rx.garbage_runs << " runs of garbage (" << rx.bytes_dropped
-              << " bytes dropped)\n";
-    if (!stats.has_world)
-      throw InputError(o.link_input + ": no intact world in " + std::to_string(bytes.size()) + " bytes" +
-                       (rx.last_error.empty() ? "" : " (last error: " + rx.last_error + ")"));
-    auto frame = monitor.take_frame();
-    if (!frame) throw std::logic_error("monitor did not capture a frame");
-    std::cerr << "device: showing world " << stats.sequence << ", " << stats.late_pixels << " late pixels on "
-              << stats.late_lines << " lines\n";
-    write_image(o.out, *frame);
-    vcd.keep();
-    return kExitOk;
+  const scene::Scene scene = load_scene(o.scene);
+  if (o.frames > 0) return run_animation(o, mode, scene);
+  if (mode == modes::Mode::kPath) {
+    return run_path_still(o, scene, {}, true, "");
   }
-
-  scene::Scene scene = load_scene(o.scene);
-  if (o.frames > 0) return run_animation(o, std::move(scene), preset, wire);
-  if (o.mode == "path") {
-    return run_path_still(o, scene, [](const auto& path_scene, const auto& camera, const auto& s, const auto& on_samples) {
-      return render::render_path(path_scene, camera, s, on_samples);
-    }, true, "");
-  }
-  if (o.mode == "normal") {
-    host::Host host(scene, board::formats_of(preset), wire);
-    const auto& world = host.update();
-    const int width = o.width != 0 ? o.width : scene.render.width;
-    const int height = o.height != 0 ? o.height : scene.render.height;
-    write_image(o.out, render::render_normal_fast(world.view_spheres, width, height, preset.max_bounces, o.threads));
-    return kExitOk;
-  }
-  VcdCapture vcd(o.vcd, o.lines);
-  board::Board b(std::move(scene), {preset, wire, {o.transfer_bytes, o.spi_hz}});
-  const board::ShownFrame shown = b.show(vcd.probe());
-  report(shown);
+  const std::unique_ptr<display::VcdFile> vcd = open_vcd(o);
+  modes::SourceConfig config = source_config(o, mode, scene);
+  if (vcd) config.probe = [&vcd](const device::VgaSample& s) { vcd->sample(s); };
+  const std::unique_ptr<modes::FrameSource> source = modes::make_frame_source(scene, config);
+  const modes::Frame& frame = source->draw();
+  if (mode == modes::Mode::kHw) report(frame);
   if (o.compare) {
-    const core::ImageDiff d =
-        core::diff(shown.image, render::render_normal(b.host().ready().view_spheres, 640, 480, preset.max_bounces));
+    // The float reference of the same world from the same camera: normal mode's frame.
+    modes::SourceConfig reference = config;
+    reference.mode = modes::Mode::kNormal;
+    reference.probe = {};
+    const core::ImageDiff d = core::diff(frame.vga, modes::make_frame_source(scene, reference)->draw().vga);
     std::printf("vs float reference: %zu of %zu pixels differ (%.3f%%), %zu by more than one level, at most %d levels\n",
                 d.differing, d.pixels, 100.0 * static_cast<double>(d.differing) / static_cast<double>(d.pixels),
                 d.over_one_level, d.max_level_difference);
   }
-  write_image(o.out, shown.image);
-  vcd.keep();
+  write_image(o.out, frame);
+  keep(vcd.get(), o.vcd);
   return kExitOk;
 }
 
 }  // namespace
 
-void check_options(const RenderOptions& o) {
-  if (o.mode != "hw" && o.mode != "normal" && o.mode != "path")
-    throw InputError("--mode must be hw, normal or path, not '" + o.mode + "'");
-  if (o.mode != "path" && (o.spp != 0 || o.depth != 0))
+void check_options(const RenderOptions& o, modes::Mode mode) {
+  using modes::Mode;
+  if (mode != Mode::kPath && (o.spp != 0 || o.depth != 0))
     throw InputError("--spp and --depth need --mode path (hw and normal trace one ray per pixel)");
   parse_wire(o.wire);
   load_preset(o.preset, o.workers, o.bounces);
-  if (o.mode == "hw" && ((o.width != 0 && o.width != 640) || (o.height != 0 && o.height != 480)))
+  if (mode == Mode::kHw && ((o.width != 0 && o.width != 640) || (o.height != 0 && o.height != 480)))
     throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal or path");
-  if (o.mode != "hw" && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float renderers have no VGA signal)");
-  if (o.mode != "hw" && !o.link_input.empty()) throw InputError("--link-input needs --mode hw");
-  if (o.compare && (o.mode != "hw" || !o.link_input.empty()))
+  if (mode != Mode::kHw && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float renderers have no VGA signal)");
+  if (mode != Mode::kHw && !o.link_input.empty()) throw InputError("--link-input needs --mode hw");
+  if (o.compare && (mode != Mode::kHw || !o.link_input.empty()))
     throw InputError("--compare needs --mode hw with a scene (it renders the same world in float)");
   if (o.frames == 0 && (o.orbit != 0 || !o.video.empty())) throw InputError("--orbit and --video need --frames N");
   if (o.frames > 0 && (!o.vcd.empty() || !o.link_input.empty() || o.compare))
@@ -260,45 +208,44 @@ void check_outputs(const RenderOptions& o) {
   if (!o.vcd.empty()) check_output_path(o.vcd);
 }
 
-render::PathSettings path_settings(const RenderOptions& o, const scene::Scene& scene) {
-  render::PathSettings s;
-  s.width = o.width != 0 ? o.width : scene.render.width;
-  s.height = o.height != 0 ? o.height : scene.render.height;
-  s.spp = o.spp != 0 ? o.spp : scene.render.spp;
-  s.max_depth = o.depth != 0 ? o.depth : scene.render.max_depth;
-  s.seed = o.seed;
-  s.threads = o.threads;
-  return s;
+modes::SourceConfig source_config(const RenderOptions& o, modes::Mode mode, const scene::Scene& scene) {
+  modes::SourceConfig c;
+  c.mode = mode;
+  c.preset = load_preset(o.preset, o.workers, o.bounces);
+  c.wire = parse_wire(o.wire);
+  c.spi = {o.transfer_bytes, o.spi_hz};
+  const bool monitor = mode == modes::Mode::kHw;
+  c.width = monitor ? core::kScreenWidth : (o.width != 0 ? o.width : scene.render.width);
+  c.height = monitor ? core::kScreenHeight : (o.height != 0 ? o.height : scene.render.height);
+  c.threads = o.threads;
+  c.spp = o.spp != 0 ? o.spp : scene.render.spp;
+  c.max_depth = o.depth != 0 ? o.depth : scene.render.max_depth;
+  c.seed = o.seed;
+  return c;
 }
 
-int run_path_still(const RenderOptions& o, const scene::Scene& scene, const PathTrace& trace, bool writes,
+int run_path_still(const RenderOptions& o, const scene::Scene& scene, const modes::PathTrace& trace, bool writes,
                    const std::string& where) {
-  const render::PathSettings s = path_settings(o, scene);
+  modes::SourceConfig config = source_config(o, modes::Mode::kPath, scene);
+  const render::PathSettings s = modes::path_settings(config);
+  std::optional<core::ProgressBar> bar;
+  config.trace = trace;
+  config.on_samples = [&bar](std::uint64_t n) { bar->add(n); };
   const auto t0 = std::chrono::steady_clock::now();
-  const render::PathScene path_scene(scene.spheres);
+  const std::unique_ptr<modes::FrameSource> source = modes::make_frame_source(scene, config);  // builds the BVH
   const auto t1 = std::chrono::steady_clock::now();
-  const render::ThinLensCamera camera(scene.camera, s.width, s.height);
-  render::ImageRgbF image;
-  {
-    core::ProgressBar bar("path", samples_of(s), "samples", !o.quiet && writes, std::cerr);
-    image = trace(path_scene, camera, s, [&](std::uint64_t n) { bar.add(n); });
-  }
+  bar.emplace("path", samples_of(s), "samples", !o.quiet && writes, std::cerr);
+  const modes::Frame& frame = source->draw();
+  bar.reset();
   if (!writes) return kExitOk;
   const double trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   if (!o.quiet) {
     std::fprintf(stderr, "path: %zu spheres, BVH built in %.3f s; %dx%d at %d spp in %.2f s (%.2f Msamples/s)%s\n",
-                 path_scene.size(), std::chrono::duration<double>(t1 - t0).count(), s.width, s.height, s.spp,
+                 scene.spheres.size(), std::chrono::duration<double>(t1 - t0).count(), s.width, s.height, s.spp,
                  trace_seconds, static_cast<double>(samples_of(s)) / trace_seconds / 1e6, where.c_str());
   }
-  write_image(o.out, render::to_srgb8(image));
+  write_image(o.out, frame);
   return kExitOk;
-}
-
-core::ImageRgb8 render_path_frame(const render::PathScene& scene, scene::CameraSettings camera, const host::Camera& at,
-                                  const render::PathSettings& s) {
-  camera.lookfrom = at.position();
-  camera.lookat = at.target();
-  return render::to_srgb8(render::render_path(scene, render::ThinLensCamera(camera, s.width, s.height), s));
 }
 
 std::string frame_path(const std::string& pattern, int frame) {
@@ -307,48 +254,24 @@ std::string frame_path(const std::string& pattern, int frame) {
   return buf;
 }
 
-VideoPipe::VideoPipe(const std::string& path, int width, int height) {
-  if (path.empty()) return;
-  // The command goes through the shell, with the path in single quotes.
-  if (path.find('\'') != std::string::npos) throw InputError("--video " + path + ": a quote in the file name");
-  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
-    std::cerr << "ffmpeg is not installed (Debian: apt-get install ffmpeg): writing the PNG frames only, no " << path
-              << "\n";
-    return;
-  }
-  // ffmpeg writes "DIR/NAME.partial.EXT" (it picks the format by the extension), renamed once it has finished,
-  // so a render that stops part-way never leaves a short video under the asked name.
-  const std::filesystem::path p(path);
-  partial_ = (p.parent_path() / (p.stem().string() + ".partial" + p.extension().string())).string();
-  const std::string cmd = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgb24 -s " + std::to_string(width) + "x" +
-                          std::to_string(height) + " -r 30 -i - -pix_fmt yuv420p '" + partial_ + "'";
-  pipe_ = popen(cmd.c_str(), "w");
-  if (pipe_ == nullptr) throw std::runtime_error("cannot start ffmpeg");
-  path_ = path;
+void write_quietly(const std::string& path, const modes::Frame& frame) {
+  auto written = modes::write_png(path, frame);
+  if (!written) throw InputError(written.error().message);
 }
 
-VideoPipe::~VideoPipe() {
-  if (pipe_ == nullptr) return;
-  pclose(pipe_);
-  std::error_code ignored;
-  std::filesystem::remove(partial_, ignored);
+void write_image(const std::string& path, const modes::Frame& frame) {
+  write_quietly(path, frame);
+  const core::ImageRgb8& rgb = frame.rgb;
+  const int width = frame.vga.pixels.empty() ? rgb.width : frame.vga.width;
+  const int height = frame.vga.pixels.empty() ? rgb.height : frame.vga.height;
+  std::cerr << "wrote " << path << " (" << width << "x" << height << ")\n";
 }
 
-void VideoPipe::add(const core::ImageRgb8& frame) {
-  if (pipe_ != nullptr) std::fwrite(frame.pixels.data(), 1, frame.pixels.size(), pipe_);
-}
-
-void VideoPipe::finish() {
-  if (pipe_ == nullptr) return;
-  const int status = pclose(pipe_);
-  pipe_ = nullptr;
-  std::error_code ec;
-  if (status == 0) std::filesystem::rename(partial_, path_, ec);
-  if (status != 0 || ec) {
-    std::filesystem::remove(partial_, ec);
-    throw std::runtime_error("ffmpeg failed writing " + path_);
-  }
-  std::cerr << "wrote " << path_ << "\n";
+std::unique_ptr<display::VideoPipe> open_video(const RenderOptions& o, int width, int height) {
+  if (o.video.empty()) return nullptr;
+  auto video = display::VideoPipe::open(o.video, width, height, std::cerr);
+  if (!video) throw InputError("--video " + video.error().message);
+  return std::move(video).value();
 }
 
 void add_render_command(CLI::App& app, Action& run) {

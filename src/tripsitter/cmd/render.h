@@ -3,16 +3,12 @@
 #pragma once
 
 #include <cstdint>
-#include <cstdio>
-#include <iostream>
-#include <functional>
+#include <memory>
 #include <string>
 
-#include <tripsitter/core/image.h>
-#include <tripsitter/display/png.h>
-#include <tripsitter/host/camera.h>
+#include <tripsitter/display/video.h>
 #include <tripsitter/link/spi.h>
-#include <tripsitter/render/path_tracer.h>
+#include <tripsitter/modes/frame_source.h>
 #include <tripsitter/scene/scene.h>
 
 #include "common.h"
@@ -21,7 +17,7 @@ namespace tripsitter::cmd {
 
 struct RenderOptions {
   std::string scene = "demo";
-  std::string mode = "hw";
+  std::string mode = "hw";  // as given: parse_mode makes it a modes::Mode
   std::string preset = "wide";
   int workers = 0;
   int bounces = -1;
@@ -47,55 +43,32 @@ struct RenderOptions {
   std::string video;
 };
 
-// Options that contradict each other or name unknown things; throws InputError before any work.
-void check_options(const RenderOptions& o);
+// Options that contradict each other or name unknown things in `mode` (o.mode parsed); throws InputError
+// before any work.
+void check_options(const RenderOptions& o, modes::Mode mode);
 // Output files that could not be written where asked (a missing directory); throws InputError before any work.
 void check_outputs(const RenderOptions& o);
 
-// The path tracer's settings: the command line's, else the scene's.
-render::PathSettings path_settings(const RenderOptions& o, const scene::Scene& scene);
+// The frame source's settings: the command line's, else the scene's (size, samples, depth).
+// REQUIRES check_options(o, mode) passed.
+modes::SourceConfig source_config(const RenderOptions& o, modes::Mode mode, const scene::Scene& scene);
 // A path-traced still from start to end: the BVH built, `trace` run under a progress bar, the summary line
 // (ended by `where`: "" or " on 4 MPI ranks") and the image file. A process that only helps (an MPI rank other
 // than 0) passes writes = false: no bar, no summary, no file.
-using PathTrace = std::function<render::ImageRgbF(const render::PathScene&, const render::ThinLensCamera&,
-                                                  const render::PathSettings&,
-                                                  const std::function<void(std::uint64_t)>& on_samples)>;
-int run_path_still(const RenderOptions& o, const scene::Scene& scene, const PathTrace& trace, bool writes,
+int run_path_still(const RenderOptions& o, const scene::Scene& scene, const modes::PathTrace& trace, bool writes,
                    const std::string& where);
-// One frame of a path-traced animation: the scene's camera moved to where the host's camera is now.
-core::ImageRgb8 render_path_frame(const render::PathScene& scene, scene::CameraSettings camera, const host::Camera& at,
-                                  const render::PathSettings& s);
 
 // "DIR/frame_%04d.png" with frame 7 is "DIR/frame_0007.png". REQUIRES a pattern accepted by check_options.
 std::string frame_path(const std::string& pattern, int frame);
 
-template <class Image>
-void write_quietly(const std::string& path, const Image& image) {
-  auto written = display::write_png(path, image);
-  if (!written) throw InputError(written.error().message);
-}
+// The frame's picture as a PNG file; throws InputError when it cannot be written.
+void write_quietly(const std::string& path, const modes::Frame& frame);
+// The same, and says so on stderr.
+void write_image(const std::string& path, const modes::Frame& frame);
 
-template <class Image>
-void write_image(const std::string& path, const Image& image) {
-  write_quietly(path, image);
-  std::cerr << "wrote " << path << " (" << image.width << "x" << image.height << ")\n";
-}
-
-// ffmpeg fed raw RGB frames through a pipe; nothing when ffmpeg is not installed. The video appears under its
-// name only when finish() succeeds.
-class VideoPipe {
- public:
-  VideoPipe(const std::string& path, int width, int height);
-  ~VideoPipe();
-  VideoPipe(const VideoPipe&) = delete;
-  VideoPipe& operator=(const VideoPipe&) = delete;
-  void add(const core::ImageRgb8& frame);
-  void finish();
-
- private:
-  FILE* pipe_ = nullptr;
-  std::string path_, partial_;
-};
+// The --video pipe for frames of width x height, or null without --video; throws InputError for a path the
+// pipe cannot take.
+std::unique_ptr<display::VideoPipe> open_video(const RenderOptions& o, int width, int height);
 
 // `tripsitter render` started by Open MPI's mpirun in path mode: the ranks share the work (docs/mpi.md).
 // Defined only in builds with MPI.

@@ -11,6 +11,7 @@
 #include <tripsitter/cluster/job.h>
 #include <tripsitter/cluster/share.h>
 #include <tripsitter/core/progress.h>
+#include <tripsitter/modes/animation.h>
 
 #include "render.h"
 
@@ -59,36 +60,35 @@ int run_still(const cluster::Job& job, const RenderOptions& o, const scene::Scen
 // An animation: frame i is rendered whole by rank i % K; rank 0 writes the frames in order (and feeds ffmpeg).
 // Every rank moves the camera through every frame, so each frame's camera is the one a single process uses.
 int run_frames(const cluster::Job& job, const RenderOptions& o, const scene::Scene& scene) {
-  const render::PathSettings s = path_settings(o, scene);
-  const render::PathScene path_scene(scene.spheres);
-  host::Camera at(scene.camera.lookfrom, scene.camera.lookat, scene.camera.vup);
+  const modes::SourceConfig config = source_config(o, modes::Mode::kPath, scene);
+  const std::unique_ptr<modes::FrameSource> source = modes::make_frame_source(scene, config);
   cluster::FrameExchange exchange(job);
-  std::optional<VideoPipe> video;
-  if (job.is_root()) video.emplace(o.video, s.width, s.height);
+  std::unique_ptr<display::VideoPipe> video;
+  if (job.is_root()) video = open_video(o, config.width, config.height);
   core::ProgressBar bar("animation", static_cast<std::uint64_t>(o.frames), "frames", !o.quiet && job.is_root(),
                         std::cerr);
-  for (int i = 0; i < o.frames; ++i) {
-    if (i > 0) at.orbit(o.orbit / o.frames);
-    core::ImageRgb8 rgb;
-    if (exchange.owns(i)) {
-      rgb = render_path_frame(path_scene, scene.camera, at, s);
+  const auto owns = [&exchange](int i) { return exchange.owns(i); };
+  modes::animate(*source, o.frames, o.orbit, owns, [&](int i, const modes::Frame* drawn) {
+    modes::Frame frame;
+    if (drawn != nullptr) {
       job.test_kill_point();
       if (!job.is_root()) {
-        exchange.send(std::move(rgb));
-        continue;
+        exchange.send(drawn->rgb);
+        return;
       }
+      frame.rgb = drawn->rgb;
     } else if (job.is_root()) {
-      rgb = exchange.receive(i, s.width, s.height);
+      frame.rgb = exchange.receive(i, config.width, config.height);
     } else {
-      continue;
+      return;
     }
-    write_quietly(frame_path(o.out, i), rgb);
-    video->add(rgb);
+    write_quietly(frame_path(o.out, i), frame);
+    if (video) video->add(frame.rgb);
     bar.add(1);
-  }
+  });
   if (!job.is_root()) return kExitOk;
   bar.finish();
-  video->finish();
+  if (video) video->finish(std::cerr);
   std::cerr << "wrote " << o.frames << " frames" << on_ranks(job) << ", " << frame_path(o.out, 0) << " to "
             << frame_path(o.out, o.frames - 1) << "\n";
   return kExitOk;
@@ -103,7 +103,7 @@ int run_render_mpi(const RenderOptions& o) {
   std::optional<scene::Scene> scene;
   std::exception_ptr problem;
   try {
-    check_options(o);
+    check_options(o, modes::Mode::kPath);
     if (job.is_root()) check_outputs(o);
     scene = load_scene(o.scene);
   } catch (...) {

@@ -26,10 +26,7 @@ struct RunCommandOptions {
 
 int run_run(const RunCommandOptions& o) {
   frontend::AppConfig c;
-  if (o.mode == "hw") c.mode = frontend::Mode::kHw;
-  else if (o.mode == "normal") c.mode = frontend::Mode::kNormal;
-  else if (o.mode == "path") c.mode = frontend::Mode::kPath;
-  else throw InputError("--mode must be hw, normal or path, not '" + o.mode + "'");
+  c.mode = parse_mode(o.mode);
   c.wire = parse_wire(o.wire);
   c.preset = load_preset(o.preset, o.workers);
   c.scene = load_scene(o.scene);

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <optional>
 
-#include <tripsitter/device/vga.h>
+#include <tripsitter/device/vga_signal.h>
 #include <tripsitter/core/image.h>
 
 namespace tripsitter::display {

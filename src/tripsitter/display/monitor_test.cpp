@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <tripsitter/display/monitor.h>
+#include <tripsitter/device/vga.h>
 
 #include <cstdint>
 #include <initializer_list>

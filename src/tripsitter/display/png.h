@@ -5,12 +5,9 @@
 
 #include <tripsitter/core/result.h>
 #include <tripsitter/core/image.h>
+#include <tripsitter/display/io.h>
 
 namespace tripsitter::display {
-
-struct IoError {
-  std::string message;  // names the path and what went wrong
-};
 
 // Writes the image to `path`. On failure nothing is left at `path` (the file is written beside it and renamed).
 core::Result<bool, IoError> write_png(const std::string& path, const core::Image444& image);

@@ -3,6 +3,8 @@
 // "b<bits> <id>". The first sample's values are written inside $dumpvars ... $end at time 0.
 #include <tripsitter/display/vcd.h>
 
+#include <cstdio>
+
 namespace tripsitter::display {
 namespace {
 
@@ -61,5 +63,32 @@ void VcdWriter::sample(const device::VgaSample& s) {
 }
 
 void VcdWriter::finish() { out_ << '#' << samples_ * period_ns_ << '\n'; }
+
+core::Result<std::unique_ptr<VcdFile>, IoError> VcdFile::open(const std::string& path, std::uint64_t max_samples) {
+  std::unique_ptr<VcdFile> file(new VcdFile(path, max_samples));
+  if (!file->file_) {
+    file->kept_ = true;  // nothing of ours is there to remove
+    return IoError{path + ": cannot open for writing"};
+  }
+  return file;
+}
+
+// The writer's header goes to the stream as it is constructed; a stream that failed to open takes nothing.
+VcdFile::VcdFile(std::string path, std::uint64_t max_samples)
+    : path_(std::move(path)), max_samples_(max_samples), file_(path_, std::ios::binary | std::ios::trunc), writer_(file_) {}
+
+VcdFile::~VcdFile() {
+  if (kept_) return;
+  file_.close();
+  std::remove(path_.c_str());
+}
+
+core::Result<std::uint64_t, IoError> VcdFile::keep() {
+  writer_.finish();
+  file_.close();
+  if (!file_) return IoError{path_ + ": write failed"};
+  kept_ = true;
+  return writer_.samples();
+}
 
 }  // namespace tripsitter::display

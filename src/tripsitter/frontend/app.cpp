@@ -4,12 +4,9 @@
 #include <filesystem>
 
 #include <tripsitter/display/png.h>
-#include <tripsitter/render/normal.h>
 
 namespace tripsitter::frontend {
 namespace {
-
-constexpr int kMaxPathSamples = 1024;  // path mode stops refining a still picture here
 
 double ms_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
@@ -17,9 +14,18 @@ double ms_since(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
-App::App(AppConfig config)
-    : config_(std::move(config)), board_(config_.scene, {config_.preset, config_.wire, {}}) {
-  if (config_.mode == Mode::kPath) path_scene_ = std::make_unique<render::PathScene>(config_.scene.spheres);
+App::App(AppConfig config) : config_(std::move(config)) {
+  modes::SourceConfig c;
+  c.mode = config_.mode;
+  c.preset = config_.preset;
+  c.wire = config_.wire;
+  c.width = kWidth;
+  c.height = kHeight;
+  c.threads = config_.threads;
+  c.max_depth = config_.scene.render.max_depth;
+  c.seed = config_.seed;
+  c.progressive = true;
+  source_ = modes::make_frame_source(config_.scene, c);
   info_.spheres = config_.scene.spheres.size();
   render_frame();
 }
@@ -28,7 +34,7 @@ void App::handle(const Input& input) {
   switch (input.kind) {
     case Input::Kind::kKeyDown:
       if (input.key == host::Key::kR) {
-        board_.host().reset();
+        source_->reset();
         dirty_ = true;
       } else {
         held_[static_cast<std::size_t>(input.key)] = true;
@@ -45,10 +51,10 @@ void App::handle(const Input& input) {
 void App::advance(double dt_s) {
   for (std::size_t k = 0; k < held_.size(); ++k) {
     if (!held_[k]) continue;
-    host::apply_held_key(board_.host().camera(), static_cast<host::Key>(k), dt_s, config_.speeds);
+    host::apply_held_key(source_->steer(), static_cast<host::Key>(k), dt_s, config_.speeds);
     dirty_ = true;
   }
-  if (dirty_ || (config_.mode == Mode::kPath && accumulated_spp_ < kMaxPathSamples)) {
+  if (dirty_ || source_->refining()) {
     render_frame();
     ++frames_in_window_;
   }
@@ -63,52 +69,19 @@ void App::advance(double dt_s) {
 
 void App::render_frame() {
   const auto start = std::chrono::steady_clock::now();
-  switch (config_.mode) {
-    case Mode::kHw: {
-      // Every camera change travels host -> link -> device -> VGA signal -> monitor.
-      const board::ShownFrame shown = board_.show();
-      frame444_ = shown.image;
-      info_.late_lines = shown.device.late_lines;
-      info_.link_bytes = shown.link_bytes;
-      info_.link_ms = shown.link_seconds * 1e3;
-      info_.saturations = shown.saturations.total();
-      frame_ = core::to_rgb8(frame444_);
-      break;
-    }
-    case Mode::kNormal: {
-      const host::ReadyWorld& world = board_.host().update();
-      frame444_ = render::render_normal_fast(world.view_spheres, kWidth, kHeight, config_.preset.max_bounces,
-                                             config_.threads);
-      info_.saturations = world.saturations.total();
-      frame_ = core::to_rgb8(frame444_);
-      break;
-    }
-    case Mode::kPath: {
-      if (dirty_ || accumulated_spp_ == 0) {
-        accumulated_ = {kWidth, kHeight, std::vector<render::Vec3f>(static_cast<std::size_t>(kWidth) * kHeight)};
-        accumulated_spp_ = 0;
-      }
-      scene::CameraSettings cam = config_.scene.camera;
-      cam.lookfrom = board_.host().camera().position();
-      cam.lookat = board_.host().camera().target();
-      render::PathSettings s{.width = kWidth, .height = kHeight, .spp = 1,
-                             .max_depth = config_.scene.render.max_depth,
-                             .seed = config_.seed + static_cast<std::uint64_t>(accumulated_spp_),
-                             .threads = config_.threads, .sky = {}};
-      if (pass_.pixels.size() != accumulated_.pixels.size()) pass_ = accumulated_;
-      if (frame_.width != kWidth || frame_.height != kHeight) frame_ = core::ImageRgb8(kWidth, kHeight);
-      ++accumulated_spp_;
-      const float scale = 1.0f / static_cast<float>(accumulated_spp_);
-      // Each row is added to the sum and encoded by the thread that traced it, while it is in cache.
-      render::render_path_rows(*path_scene_, render::ThinLensCamera(cam, kWidth, kHeight), s, 0, 1, pass_, [&](int row) {
-        const std::size_t first = static_cast<std::size_t>(row) * kWidth;
-        for (std::size_t i = first; i < first + kWidth; ++i) accumulated_.pixels[i] += pass_.pixels[i];
-        render::encode_srgb8(&accumulated_.pixels[first], kWidth, scale, &frame_.pixels[3 * first]);
-      });
-      info_.samples = accumulated_spp_;
-      break;
-    }
+  const modes::Frame& frame = source_->draw();
+  shown_ = &frame;
+  if (frame.vga.pixels.empty()) {
+    frame_ = &frame.rgb;
+  } else {
+    expanded_ = core::to_rgb8(frame.vga);
+    frame_ = &expanded_;
   }
+  info_.late_lines = frame.device.late_lines;
+  info_.link_bytes = frame.link_bytes;
+  info_.link_ms = frame.link_seconds * 1e3;
+  info_.saturations = frame.saturations.total();
+  info_.samples = frame.samples;
   dirty_ = false;
   ++serial_;
   info_.frame_ms = ms_since(start);
@@ -120,8 +93,7 @@ void App::screenshot() {
   do {
     path = fs::path(config_.screenshot_dir) / ("tripsitter-" + std::to_string(++screenshots_) + ".png");
   } while (fs::exists(path));
-  const auto written = config_.mode == Mode::kPath ? display::write_png(path.string(), frame_)
-                                                   : display::write_png(path.string(), frame444_);
+  const auto written = modes::write_png(path.string(), *shown_);
   message_ = written ? "screenshot written to " + path.string() : written.error().message;
 }
 

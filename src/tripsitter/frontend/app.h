@@ -10,15 +10,16 @@
 #include <optional>
 #include <string>
 
-#include <tripsitter/board/board.h>
 #include <tripsitter/core/image.h>
+#include <tripsitter/device/preset.h>
 #include <tripsitter/host/controls.h>
-#include <tripsitter/render/path_tracer.h>
+#include <tripsitter/link/wire.h>
+#include <tripsitter/modes/frame_source.h>
 #include <tripsitter/scene/scene.h>
 
 namespace tripsitter::frontend {
 
-enum class Mode { kHw, kNormal, kPath };
+using modes::Mode;
 
 struct AppConfig {
   scene::Scene scene;
@@ -52,14 +53,16 @@ struct FrameInfo {
 class App {
  public:
   explicit App(AppConfig config);
+  App(const App&) = delete;  // frame() points into the App
+  App& operator=(const App&) = delete;
 
   void handle(const Input& input);
-  // Moves the camera by `dt_s` seconds of the keys held, and makes the next frame: a new one through the
-  // board when the camera changed (hw, normal), one more sample per pixel while it is still (path).
+  // Moves the camera by `dt_s` seconds of the keys held, and makes the next frame when the camera changed, or
+  // while the picture still refines (path: one more sample per pixel while the camera is still).
   void advance(double dt_s);
 
   // The frame on screen, 640x480, 8 bits per channel (12-bit frames expanded).
-  const core::ImageRgb8& frame() const { return frame_; }
+  const core::ImageRgb8& frame() const { return *frame_; }
   const FrameInfo& info() const { return info_; }
   bool quit() const { return quit_; }
   bool overlay() const { return overlay_; }
@@ -77,16 +80,13 @@ class App {
   void screenshot();
 
   AppConfig config_;
-  board::Board board_;  // hw: the whole path; other modes use its host (camera, world, view transform)
-  std::unique_ptr<render::PathScene> path_scene_;
-  render::ImageRgbF accumulated_;  // path mode: sum of samples
-  render::ImageRgbF pass_;         // path mode: the frame's new sample per pixel
-  int accumulated_spp_ = 0;
+  std::unique_ptr<modes::FrameSource> source_;  // owns the host camera the keys move
+  const modes::Frame* shown_ = nullptr;         // the source's last frame
   std::array<bool, 11> held_{};
   bool dirty_ = true;   // the camera or world changed since the last frame
   bool quit_ = false, overlay_ = false, help_ = false;
-  core::ImageRgb8 frame_;
-  core::Image444 frame444_;  // hw and normal: the 12-bit frame, for screenshots
+  core::ImageRgb8 expanded_;                    // hw and normal: the 12-bit frame in 8 bits per channel
+  const core::ImageRgb8* frame_ = &expanded_;   // what the screen shows: expanded_, or the path source's picture
   std::uint64_t serial_ = 0;
   int screenshots_ = 0;
   std::optional<std::string> message_;

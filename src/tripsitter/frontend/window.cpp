@@ -130,13 +130,14 @@ std::vector<std::string> overlay_text(const FrameInfo& info, Mode mode) {
     lines.emplace_back(buf);
     std::snprintf(buf, sizeof buf, "link %zu bytes per world, %.3f ms", info.link_bytes, info.link_ms);
     lines.emplace_back(buf);
+    // Values the host clamped to the device's fixed point: only the world the board shows has any.
+    std::snprintf(buf, sizeof buf, "saturations %llu", static_cast<unsigned long long>(info.saturations));
+    lines.emplace_back(buf);
   }
   if (mode == Mode::kPath) {
     std::snprintf(buf, sizeof buf, "%d samples per pixel", info.samples);
     lines.emplace_back(buf);
   }
-  std::snprintf(buf, sizeof buf, "saturations %llu", static_cast<unsigned long long>(info.saturations));
-  lines.emplace_back(buf);
   return lines;
 }
 

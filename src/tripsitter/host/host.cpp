@@ -3,17 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tripsitter/core/albedo.h>
+
 namespace tripsitter::host {
 namespace {
 
-constexpr double kImagePlaneZ = 320.0;  // the device's image plane, in pixel units
-
-double derive_units_per_world(const scene::Scene& s) {
-  if (s.units_per_world > 0) return s.units_per_world;
-  return kImagePlaneZ / core::length(s.camera.lookat - s.camera.lookfrom);
-}
-
-std::uint8_t unit_to_byte(double v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); }
+// The albedo byte the device mixes reflections with (core/albedo.h).
+constexpr auto& unit_to_byte = core::albedo_byte;
 
 std::uint16_t to_u16(double v, double scale) {
   return static_cast<std::uint16_t>(std::lround(std::clamp(v * scale, 0.0, 65535.0)));
@@ -62,7 +58,7 @@ Host::Host(scene::Scene scene, link::SceneFormats formats, link::WireVersion wir
     : initial_(std::move(scene)),
       world_(initial_.spheres),
       camera_(initial_.camera.lookfrom, initial_.camera.lookat, initial_.camera.vup),
-      units_per_world_(derive_units_per_world(initial_)),
+      units_per_world_(host::units_per_world(initial_)),
       formats_(formats),
       wire_(wire) {}
 
@@ -71,34 +67,26 @@ void Host::reset() {
   camera_ = Camera(initial_.camera.lookfrom, initial_.camera.lookat, initial_.camera.vup);
 }
 
-core::Mat4 Host::view_from_world() const {
-  const double s = units_per_world_;
-  return core::Mat4::scale({s, s, s}) * camera_.camera_from_world();
+std::vector<scene::Sphere> Host::view() const {
+  const std::size_t count = spheres_carried(world_.size(), formats_, wire_);
+  return view_spheres(std::span(world_).first(count), camera_, units_per_world_);
 }
 
 const ReadyWorld& Host::update() {
   ReadyWorld next;
   next.sequence = ++sequence_;
-  const core::Mat4 m = view_from_world();
-  const std::size_t capacity = wire_ == link::WireVersion::kV1 ? world_.size() : formats_.max_spheres;
-  const std::size_t count = std::min(world_.size(), capacity);
-  next.spheres_dropped = world_.size() - count;
-  next.view_spheres.reserve(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    scene::Sphere v = world_[i];
-    v.center = m.apply_point(v.center);
-    v.radius *= units_per_world_;
-    next.view_spheres.push_back(v);
-  }
+  const std::vector<scene::Sphere> view = this->view();
+  next.spheres = view.size();
+  next.spheres_dropped = world_.size() - view.size();
   if (wire_ == link::WireVersion::kV1) {
     // The board's stream: one word per sphere; the device keeps the latest.
-    for (const auto& v : next.view_spheres) link::append_v1_bytes(link::encode_v1_word(to_v1(v, next.saturations)), next.bytes);
+    for (const auto& v : view) link::append_v1_bytes(link::encode_v1_word(to_v1(v, next.saturations)), next.bytes);
   } else {
     link::World world;
     world.sequence = next.sequence;
     world.frac_bits = static_cast<std::uint8_t>(formats_.x.frac_bits);
-    world.spheres.reserve(count);
-    for (const auto& v : next.view_spheres) world.spheres.push_back(to_wire(v, formats_, next.saturations));
+    world.spheres.reserve(view.size());
+    for (const auto& v : view) world.spheres.push_back(to_wire(v, formats_, next.saturations));
     next.bytes = link::encode_v2_frame(world);
   }
   total_saturations_.coordinates += next.saturations.coordinates;

@@ -1,11 +1,8 @@
 // The host (the report's microcontroller): keeps the world and the camera in floating point, applies the
-// view transform, converts to the device's fixed point and encodes a world for the link.
+// view transform (view.h), converts to the device's fixed point and encodes a world for the link.
 //
 // Two copies of the world: the edited one (scene spheres and camera, changed by the controls) and the
-// ready one (view space, fixed point, encoded), rebuilt by update() and complete whenever the link reads it.
-//
-// View space is the device's (SPEC.md section B): camera at the origin, x right, y down, z ahead, in
-// pixel units; view_from_world = scale(units_per_world) * camera_from_world, one matrix for all centres.
+// ready one (fixed point, encoded), rebuilt by update() and complete whenever the link reads it.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +10,7 @@
 
 #include <tripsitter/core/mat4.h>
 #include <tripsitter/host/camera.h>
+#include <tripsitter/host/view.h>
 #include <tripsitter/link/wire.h>
 #include <tripsitter/link/wire_v1.h>
 #include <tripsitter/link/wire_v2.h>
@@ -30,7 +28,7 @@ struct Saturations {
 struct ReadyWorld {
   std::uint32_t sequence = 0;
   std::vector<std::uint8_t> bytes;            // the encoded world, ready for the link
-  std::vector<scene::Sphere> view_spheres;    // the same world in view space, floating point (for the float reference)
+  std::size_t spheres = 0;                    // in it
   Saturations saturations;
   std::size_t spheres_dropped = 0;            // beyond the device's scene memory (never sent)
 };
@@ -47,7 +45,9 @@ class Host {
 
   // Pixel units per world unit in view space.
   double units_per_world() const { return units_per_world_; }
-  core::Mat4 view_from_world() const;
+  // The spheres the next update sends, in view space, floating point (view.h): what the float reference of
+  // the device's shading takes.
+  std::vector<scene::Sphere> view() const;
 
   // Rebuilds the ready copy from the edited world and camera.
   const ReadyWorld& update();

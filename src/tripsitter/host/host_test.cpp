@@ -11,12 +11,14 @@ const link::SceneFormats kWide{{24, 4, true}, {24, 4, true}, {24, 4, true}, {24,
 
 TEST(Host, DemoSceneIsTheBoardsSphereInViewSpace) {
   Host h(*scene::builtin("demo"), kWide, link::WireVersion::kV2);
+  const std::vector<scene::Sphere> view = h.view();
+  ASSERT_EQ(view.size(), 1u);
+  EXPECT_NEAR(view[0].center.x, 0, 1e-9);
+  EXPECT_NEAR(view[0].center.y, 0, 1e-9);
+  EXPECT_NEAR(view[0].center.z, 400, 1e-9);
+  EXPECT_NEAR(view[0].radius, 64, 1e-9);
   const ReadyWorld& w = h.update();
-  ASSERT_EQ(w.view_spheres.size(), 1u);
-  EXPECT_NEAR(w.view_spheres[0].center.x, 0, 1e-9);
-  EXPECT_NEAR(w.view_spheres[0].center.y, 0, 1e-9);
-  EXPECT_NEAR(w.view_spheres[0].center.z, 400, 1e-9);
-  EXPECT_NEAR(w.view_spheres[0].radius, 64, 1e-9);
+  EXPECT_EQ(w.spheres, 1u);
   EXPECT_EQ(w.saturations.total(), 0u);
   const auto decoded = link::decode_v2_frame(w.bytes, 4096);
   ASSERT_TRUE(decoded.ok());
@@ -29,7 +31,7 @@ TEST(Host, WorldUpIsScreenUp) {
   scene::Scene s = *scene::builtin("demo");
   s.spheres[0].center = {0, 1, 0};  // above the look-at point
   Host h(s, kWide, link::WireVersion::kV2);
-  EXPECT_LT(h.update().view_spheres[0].center.y, 0);  // view y grows downwards
+  EXPECT_LT(h.view()[0].center.y, 0);  // view y grows downwards
 }
 
 TEST(Host, UnitsPerWorldAreDerivedFromTheLookAtDistance) {
@@ -38,7 +40,34 @@ TEST(Host, UnitsPerWorldAreDerivedFromTheLookAtDistance) {
   s.camera.lookfrom = {0, 0, -5};
   Host h(s, kWide, link::WireVersion::kV2);
   EXPECT_DOUBLE_EQ(h.units_per_world(), 64.0);
-  EXPECT_NEAR(h.view_from_world().apply_point(s.camera.lookat).z, 320.0, 1e-9);
+  EXPECT_NEAR(view_from_world(h.camera(), h.units_per_world()).apply_point(s.camera.lookat).z, 320.0, 1e-9);
+}
+
+TEST(HostView, IsThePureFunctionOfWorldAndCamera) {
+  scene::Scene s = *scene::builtin("cluster");
+  Host h(s, kWide, link::WireVersion::kV2);
+  h.camera().orbit(30);
+  h.camera().move(0.5);
+  const std::vector<scene::Sphere> view = view_spheres(s.spheres, h.camera(), units_per_world(s));
+  ASSERT_EQ(view.size(), s.spheres.size());
+  EXPECT_EQ(h.view().size(), view.size());
+  for (std::size_t i = 0; i < view.size(); ++i) {
+    EXPECT_EQ(h.view()[i].center, view[i].center);
+    EXPECT_EQ(h.view()[i].radius, view[i].radius);
+  }
+  // The update encodes exactly that world.
+  const auto decoded = link::decode_v2_frame(h.update().bytes, 4096);
+  ASSERT_TRUE(decoded.ok());
+  ASSERT_EQ(decoded.value().spheres.size(), view.size());
+  EXPECT_EQ(decoded.value().spheres[2].z, kWide.z.quantize(view[2].center.z).raw);
+}
+
+TEST(HostView, AV2WorldCarriesAtMostTheSceneMemory) {
+  EXPECT_EQ(spheres_carried(100, kWide, link::WireVersion::kV2), 100u);
+  link::SceneFormats small = kWide;
+  small.max_spheres = 64;
+  EXPECT_EQ(spheres_carried(100, small, link::WireVersion::kV2), 64u);
+  EXPECT_EQ(spheres_carried(100, small, link::WireVersion::kV1), 100u);
 }
 
 TEST(Host, SaturationsAreCountedNotHidden) {

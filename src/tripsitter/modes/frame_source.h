@@ -1,0 +1,112 @@
+// One frame source per mode: each owns the host's camera (the controls move it) and makes the picture seen from
+// it. `render` (stills, animations, MPI), `run` (the window) and `bench` take their frames from here, so that a
+// mode is chosen once and takes one road through the code.
+//
+//   hw      the board (board.h): the host quantises and encodes, the link carries the bytes, the device draws a
+//           VGA frame and the monitor captures it;
+//   normal  the host's view (host/view.h) rendered by the float reference of the device's shading
+//           (render/normal.h), nothing encoded;
+//   path    the path tracer (render/path_tracer.h) from the scene's thin-lens camera; once the camera has been
+//           steered, from the host camera's position and target.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <tripsitter/core/image.h>
+#include <tripsitter/core/result.h>
+#include <tripsitter/device/device.h>
+#include <tripsitter/device/preset.h>
+#include <tripsitter/display/io.h>
+#include <tripsitter/host/camera.h>
+#include <tripsitter/host/host.h>
+#include <tripsitter/link/spi.h>
+#include <tripsitter/link/wire.h>
+#include <tripsitter/modes/mode.h>
+#include <tripsitter/render/path_tracer.h>
+#include <tripsitter/scene/scene.h>
+
+namespace tripsitter::modes {
+
+// How the path tracer makes one picture (render::render_path by default; MPI shares the rows among ranks).
+using PathTrace = std::function<render::ImageRgbF(const render::PathScene&, const render::ThinLensCamera&,
+                                                  const render::PathSettings&,
+                                                  const std::function<void(std::uint64_t)>& on_samples)>;
+
+// What a source needs; each mode reads its own fields.
+struct SourceConfig {
+  Mode mode = Mode::kHw;
+  // hw: the device and the link. normal: the device's mirror bounces and scene memory (the float reference
+  // renders the world the device would hold).
+  device::DevicePreset preset = device::wide_preset();
+  link::WireVersion wire = link::WireVersion::kV2;
+  link::SpiConfig spi;                 // hw
+  int device_threads = 0;              // hw: threads the device model computes a frame's lines on (0: all)
+  std::function<void(const device::VgaSample&)> probe;  // hw: sees every VGA sample (a VCD trace)
+  // normal and path (hw is always the monitor's 640x480)
+  int width = 640;
+  int height = 480;
+  int threads = 0;                     // 0: all hardware threads
+  // path
+  int spp = 1;                         // samples per pixel of a picture
+  int max_depth = 50;                  // bounces along one path
+  std::uint64_t seed = 1;
+  bool progressive = false;            // each draw adds one sample per pixel while the camera is still (the window)
+  PathTrace trace;                     // empty: render::render_path on this process's threads
+  std::function<void(std::uint64_t)> on_samples;  // progress: samples traced so far
+};
+
+// The path tracer's settings of a picture at config.spp samples per pixel.
+render::PathSettings path_settings(const SourceConfig& config);
+
+// One picture and what it cost.
+struct Frame {
+  core::Image444 vga;   // hw and normal: the 12-bit picture (empty in path mode)
+  core::ImageRgb8 rgb;  // path: the sRGB-encoded picture (empty in hw and normal mode)
+  // hw: the device's frame, and the world it shows as the host sent it
+  device::FrameStats device;
+  host::Saturations saturations;
+  std::size_t link_bytes = 0;
+  double link_seconds = 0;              // at the SPI clock
+  std::size_t spheres_dropped = 0;      // beyond scene memory, never sent
+  int samples = 0;                      // path: samples per pixel in the picture
+
+  // The picture in 8-bit RGB: rgb, or vga with each channel expanded.
+  core::ImageRgb8 rgb8() const { return vga.pixels.empty() ? rgb : core::to_rgb8(vga); }
+};
+
+// Writes the frame's picture as a PNG file: the 12-bit picture where there is one, else the sRGB one.
+core::Result<bool, display::IoError> write_png(const std::string& path, const Frame& frame);
+
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+
+  Mode mode() const { return mode_; }
+  // The host's camera as it is.
+  virtual const host::Camera& camera() const = 0;
+  // The host's camera, to move it: the next draw shows the new view (a progressive source starts over).
+  virtual host::Camera& steer() = 0;
+  // R: world and camera as loaded.
+  virtual void reset() = 0;
+
+  // The picture from the camera as it is now. The frame lives until the next call.
+  virtual const Frame& draw() = 0;
+  // Whether another draw() would improve the picture although nothing moved (a progressive path source
+  // still refining).
+  virtual bool refining() const { return false; }
+
+ protected:
+  explicit FrameSource(Mode mode) : mode_(mode) {}
+
+ private:
+  Mode mode_;
+};
+
+// The source of config.mode for the scene. REQUIRES the scene's camera to be valid (scene_json.h) and the
+// preset to validate.
+std::unique_ptr<FrameSource> make_frame_source(const scene::Scene& scene, const SourceConfig& config);
+
+}  // namespace tripsitter::modes
