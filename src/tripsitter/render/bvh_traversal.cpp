@@ -22,10 +22,7 @@
 namespace tripsitter::render {
 namespace {
 
-using simd::F8;
-using simd::keep_nearest;
-using simd::LaneRoots;
-using simd::sphere_lanes;
+using namespace simd;  // F8 and the lane kernel (sphere_lanes, LaneRoots, keep_nearest)
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kWidth = Bvh::kWidth;
