@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <cctype>
 #include <iterator>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -416,30 +416,41 @@ std::vector<std::string> keys_of(const std::string& document_with_unknown_key) {
   return keys;
 }
 
+// A message with every array index written as [] ("spheres[1].radius: ..." is "spheres[].radius: ...").
+std::string without_indices(std::string message) {
+  for (std::size_t open = message.find('['); open != std::string::npos; open = message.find('[', open + 1)) {
+    std::size_t close = open + 1;
+    while (close < message.size() && std::isdigit(static_cast<unsigned char>(message[close])) != 0) ++close;
+    if (close < message.size() && message[close] == ']') message.erase(open + 1, close - open - 1);
+  }
+  return message;
+}
+
 // Every key of every object has a bad case in the table: a key the parser learns without a case fails here.
 TEST(SceneJson, TableHasABadCaseForEveryKey) {
   struct Object {
     std::string unknown_key_document;
-    std::string pattern;  // a message about key K matches it with K in place of KEY
+    std::string path;  // the object's place in a message: "" (top level), "camera", "spheres[]", ...
   };
   const std::vector<Object> objects = {
-      {R"({"spheres": [], "zzz": 1})", "^KEY[:\\[]"},
-      {WithCamera(R"("zzz": 1)"), "^camera\\.KEY[:\\[]"},
-      {WithRender(R"("zzz": 1)"), "^render\\.KEY[:\\[]"},
-      {Sphere1(R"("radius": 1, "zzz": 1)"), "^spheres\\[\\d+\\]\\.KEY[:\\[]|missing required key \"KEY\""},
-      {Sphere1(R"("radius": 1, "material": {"type": "metal", "zzz": 1})"),
-       "^spheres\\[\\d+\\]\\.material\\.KEY[:\\[]|missing required key \"KEY\""},
+      {R"({"spheres": [], "zzz": 1})", ""},
+      {WithCamera(R"("zzz": 1)"), "camera"},
+      {WithRender(R"("zzz": 1)"), "render"},
+      {Sphere1(R"("radius": 1, "zzz": 1)"), "spheres[]"},
+      {Sphere1(R"("radius": 1, "material": {"type": "metal", "zzz": 1})"), "spheres[].material"},
   };
   std::size_t keys = 0;
   for (const Object& object : objects) {
     for (const std::string& key : keys_of(object.unknown_key_document)) {
       ++keys;
-      std::string pattern = object.pattern;
-      for (std::size_t at; (at = pattern.find("KEY")) != std::string::npos;) pattern.replace(at, 3, key);
-      const std::regex re(pattern);
+      // A message about the key's value ("camera.vfov: ...", "spheres[].center[]: ...") or its absence.
+      const std::string value = (object.path.empty() ? "" : object.path + ".") + key;
+      const std::string missing = (object.path.empty() ? "" : object.path + ": ") + "missing required key \"" + key + "\"";
       const auto& cases = BadCases();
-      EXPECT_TRUE(std::any_of(cases.begin(), cases.end(), [&](const BadCase& c) { return std::regex_search(c.message, re); }))
-          << "no bad case for key \"" << key << "\" (pattern " << pattern << ")";
+      EXPECT_TRUE(std::any_of(cases.begin(), cases.end(), [&](const BadCase& c) {
+        const std::string m = without_indices(c.message);
+        return m.starts_with(value + ":") || m.starts_with(value + "[") || m.starts_with(missing);
+      })) << "no bad case for key \"" << key << "\" of " << (object.path.empty() ? "the top level" : object.path);
     }
   }
   EXPECT_EQ(keys, 22u);  // the five objects' keys were read from the parser
