@@ -89,7 +89,8 @@ TEST(FrameSource, PathIsThePathTracerFromTheScenesCamera) {
   const render::PathScene path_scene(scene.spheres);
   const render::ImageRgbF expected =
       render::render_path(path_scene, render::ThinLensCamera(scene.camera, 80, 60), path_settings(c));
-  const Frame& frame = make_frame_source(scene, c)->draw();
+  const auto source = make_frame_source(scene, c);
+  const Frame& frame = source->draw();  // lives as long as the source
   EXPECT_EQ(frame.rgb, render::to_srgb8(expected));
   EXPECT_EQ(frame.samples, 3);
   EXPECT_TRUE(frame.vga.pixels.empty());
