@@ -71,12 +71,7 @@ void App::render_frame() {
   const auto start = std::chrono::steady_clock::now();
   const modes::Frame& frame = source_->draw();
   shown_ = &frame;
-  if (frame.vga.pixels.empty()) {
-    frame_ = &frame.rgb;
-  } else {
-    expanded_ = core::to_rgb8(frame.vga);
-    frame_ = &expanded_;
-  }
+  if (!frame.vga.pixels.empty()) expanded_ = core::to_rgb8(frame.vga);
   info_.late_lines = frame.device.late_lines;
   info_.link_bytes = frame.link_bytes;
   info_.link_ms = frame.link_seconds * 1e3;

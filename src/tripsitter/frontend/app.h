@@ -53,8 +53,6 @@ struct FrameInfo {
 class App {
  public:
   explicit App(AppConfig config);
-  App(const App&) = delete;  // frame() points into the App
-  App& operator=(const App&) = delete;
 
   void handle(const Input& input);
   // Moves the camera by `dt_s` seconds of the keys held, and makes the next frame when the camera changed, or
@@ -62,7 +60,7 @@ class App {
   void advance(double dt_s);
 
   // The frame on screen, 640x480, 8 bits per channel (12-bit frames expanded).
-  const core::ImageRgb8& frame() const { return *frame_; }
+  const core::ImageRgb8& frame() const { return shown_->vga.pixels.empty() ? shown_->rgb : expanded_; }
   const FrameInfo& info() const { return info_; }
   bool quit() const { return quit_; }
   bool overlay() const { return overlay_; }
@@ -86,7 +84,6 @@ class App {
   bool dirty_ = true;   // the camera or world changed since the last frame
   bool quit_ = false, overlay_ = false, help_ = false;
   core::ImageRgb8 expanded_;                    // hw and normal: the 12-bit frame in 8 bits per channel
-  const core::ImageRgb8* frame_ = &expanded_;   // what the screen shows: expanded_, or the path source's picture
   std::uint64_t serial_ = 0;
   int screenshots_ = 0;
   std::optional<std::string> message_;
