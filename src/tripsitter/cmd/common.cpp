@@ -29,11 +29,16 @@ scene::Scene load_scene(const std::string& name_or_path) {
   return std::move(result).value();
 }
 
-device::DevicePreset load_preset(const std::string& name, int workers, int bounces) {
+device::DevicePreset load_preset(const std::string& name, int workers, int bounces, int spp, int depth) {
   auto preset = device::preset_by_name(name);
   if (!preset) throw InputError("unknown preset '" + name + "' (known: " + join(device::preset_names()) + ")");
   if (workers != 0) preset->workers = workers;
   if (bounces >= 0) preset->max_bounces = bounces;
+  if ((spp != 0 || depth != 0) && !preset->path)
+    throw InputError("--spp and --depth in hw mode need a path-tracing preset (--preset path); preset " + name +
+                     " traces one ray per pixel");
+  if (spp != 0) preset->path->spp = spp;
+  if (depth != 0) preset->path->depth = depth;
   if (auto why = preset->validate()) throw InputError("preset " + name + ": " + *why);
   return *preset;
 }

@@ -25,8 +25,9 @@ struct InputError : std::runtime_error {
 // A built-in scene name or a scene file; throws InputError with file:line:column on failure.
 scene::Scene load_scene(const std::string& name_or_path);
 
-// The named preset with the overrides given on the command line (workers 0 and bounces -1: not given).
-device::DevicePreset load_preset(const std::string& name, int workers, int bounces = -1);
+// The named preset with the overrides given on the command line (workers, spp and depth 0 and bounces -1: not
+// given). spp and depth apply to a path-tracing preset only (InputError otherwise).
+device::DevicePreset load_preset(const std::string& name, int workers, int bounces = -1, int spp = 0, int depth = 0);
 
 link::WireVersion parse_wire(const std::string& name);
 

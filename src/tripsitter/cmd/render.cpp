@@ -182,10 +182,10 @@ int run_render(const RenderOptions& o) {
 
 void check_options(const RenderOptions& o, modes::Mode mode) {
   using modes::Mode;
-  if (mode != Mode::kPath && (o.spp != 0 || o.depth != 0))
-    throw InputError("--spp and --depth need --mode path (hw and normal trace one ray per pixel)");
+  if (mode == Mode::kNormal && (o.spp != 0 || o.depth != 0))
+    throw InputError("--spp and --depth need --mode path, or --mode hw with --preset path (normal traces one ray per pixel)");
   parse_wire(o.wire);
-  load_preset(o.preset, o.workers, o.bounces);
+  load_preset(o.preset, o.workers, o.bounces, mode == Mode::kHw ? o.spp : 0, mode == Mode::kHw ? o.depth : 0);
   if (mode == Mode::kHw && ((o.width != 0 && o.width != 640) || (o.height != 0 && o.height != 480)))
     throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal or path");
   if (mode != Mode::kHw && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float renderers have no VGA signal)");
@@ -211,7 +211,8 @@ void check_outputs(const RenderOptions& o) {
 modes::SourceConfig source_config(const RenderOptions& o, modes::Mode mode, const scene::Scene& scene) {
   modes::SourceConfig c;
   c.mode = mode;
-  c.preset = load_preset(o.preset, o.workers, o.bounces);
+  c.preset = load_preset(o.preset, o.workers, o.bounces, mode == modes::Mode::kHw ? o.spp : 0,
+                         mode == modes::Mode::kHw ? o.depth : 0);
   c.wire = parse_wire(o.wire);
   c.spi = {o.transfer_bytes, o.spi_hz};
   const bool monitor = mode == modes::Mode::kHw;

@@ -2,7 +2,8 @@
 
 namespace tripsitter::device {
 
-Controller::Controller(const DevicePreset& preset) : preset_(preset), worker_(preset) {}
+Controller::Controller(const DevicePreset& preset)
+    : preset_(preset), worker_(preset), arith_{SqrtUnit(preset.sqrt_iterations), FixedArith::extra_bits_of(preset)} {}
 
 int Controller::pixels_in_time(std::int64_t spheres) const {
   const int per_worker = (kLineWidth + preset_.workers - 1) / preset_.workers;
@@ -14,6 +15,18 @@ int Controller::pixels_in_time(std::int64_t spheres) const {
 LineResult Controller::render_line(int row, const SceneMemory& scene, std::span<core::Rgb444> line) const {
   return schedule_line(preset_, static_cast<std::int64_t>(scene.geometry.size()), line,
                        [&](int col) { return worker_.trace(col, row, scene); });
+}
+
+LineResult Controller::render_path_line(int row, const SceneMemory& scene, const PathFrame& frame,
+                                        std::span<AccumEntry> memory, std::span<core::Rgb444> line,
+                                        PathCounters& counters) const {
+  const std::span<const core::KernelSphere<std::int64_t>> spheres(scene.geometry);
+  const auto closest = [&](const PathRay& path) {
+    return with_far_side(arith_, path, core::closest_hit(arith_, path.ray, spheres, path.from), spheres);
+  };
+  return schedule_path_line(preset_, static_cast<std::int64_t>(spheres.size()), line, memory, [&](int col) {
+    return trace_path_pixel(arith_, col, row, memory[static_cast<std::size_t>(col)], spheres, frame, counters, closest);
+  });
 }
 
 }  // namespace tripsitter::device

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include <tripsitter/core/rgb444.h>
+#include <tripsitter/device/frame_memory.h>
+#include <tripsitter/device/path_kernel.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/scene_memory.h>
 #include <tripsitter/device/worker.h>
@@ -18,41 +20,75 @@ namespace tripsitter::device {
 
 struct LineResult {
   int late_pixels = 0;  // pixels whose worker had not finished them when the line was due
-  int reflections = 0;  // reflections traced for the pixels that were on time
+  int reflections = 0;  // reflections traced for the pixels that were on time (mirror model)
+  int rays = 0;         // rays traced for the pixels that were on time (path preset)
 };
 
-// The controller's schedule of one line, whatever computes the pixels: trace(col) returns the
-// core::PixelTrace of column col (its colour and bounce count), and is called in each worker's order for
-// the pixels that start on time only. Each worker clears a pixel's slot when it starts it, so late pixels
-// are black. A worker's pixel k is ready after the occupancies of its pixels 0..k (each from its own bounce
-// count) plus the drain (DevicePreset::pixel_occupancy); it is late when that exceeds the lead time, and
-// so are all the worker's later pixels.
-template <class Trace>
-LineResult schedule_line(const DevicePreset& preset, std::int64_t spheres, std::span<core::Rgb444> line,
-                         const Trace& trace) {
-  LineResult result;
-  const std::int64_t drain = preset.drain_cycles();
-  std::array<std::int64_t, core::kMaxBounces + 1> occupancy{};  // by bounce count
-  for (int k = 0; k <= core::kMaxBounces; ++k) occupancy[static_cast<std::size_t>(k)] = preset.pixel_occupancy(spheres, k);
-  for (int w = 0; w < preset.workers; ++w) {
+// The controller's schedule of one line, whatever computes the pixels: work(col) computes column col's pixel,
+// occupancy(pixel) is the cycles it keeps its worker from starting the next one, and on_time(col, pixel) returns
+// the colour of a pixel finished in time (and takes whatever else the pixel leaves behind). work is called in
+// each worker's order for the pixels that start on time only. Each worker clears a pixel's slot when it starts
+// it, so late pixels are black. A worker's pixel k is ready after the occupancies of its pixels 0..k plus the
+// drain; it is late when that exceeds the lead time, and so are all the worker's later pixels.
+template <class Work, class Occupancy, class OnTime>
+int schedule_pixels(int workers, int lead_cycles, std::int64_t drain, std::span<core::Rgb444> line, const Work& work,
+                    const Occupancy& occupancy, const OnTime& on_time) {
+  int late_pixels = 0;
+  for (int w = 0; w < workers; ++w) {
     std::int64_t busy = 0;  // cycles from the start of the line until the worker may start its next pixel
     bool late = false;      // once one pixel is late, every later pixel of the worker is too
-    for (int col = w; col < kLineWidth; col += preset.workers) {
+    for (int col = w; col < kLineWidth; col += workers) {
       core::Rgb444& slot = line[static_cast<std::size_t>(col)];
       if (!late) {
-        const core::PixelTrace t = trace(col);
-        busy += occupancy[static_cast<std::size_t>(t.bounces)];
-        late = busy + drain > preset.lead_cycles;
+        const auto pixel = work(col);
+        busy += occupancy(pixel);
+        late = busy + drain > lead_cycles;
         if (!late) {
-          slot = t.colour;
-          result.reflections += t.bounces;
+          slot = on_time(col, pixel);
           continue;
         }
       }
       slot = core::kBlack;
-      ++result.late_pixels;
+      ++late_pixels;
     }
   }
+  return late_pixels;
+}
+
+// The mirror model's line: trace(col) returns the core::PixelTrace of column col (its colour and bounce count),
+// which sets its occupancy (DevicePreset::pixel_occupancy).
+template <class Trace>
+LineResult schedule_line(const DevicePreset& preset, std::int64_t spheres, std::span<core::Rgb444> line,
+                         const Trace& trace) {
+  LineResult result;
+  std::array<std::int64_t, core::kMaxBounces + 1> occupancy{};  // by bounce count
+  for (int k = 0; k <= core::kMaxBounces; ++k) occupancy[static_cast<std::size_t>(k)] = preset.pixel_occupancy(spheres, k);
+  result.late_pixels = schedule_pixels(
+      preset.workers, preset.lead_cycles, preset.drain_cycles(), line, trace,
+      [&](const core::PixelTrace& t) { return occupancy[static_cast<std::size_t>(t.bounces)]; },
+      [&](int, const core::PixelTrace& t) {
+        result.reflections += t.bounces;
+        return t.colour;
+      });
+  return result;
+}
+
+// The path preset's line: trace(col) returns column col's PathPixel, whose rays and bounces set its occupancy
+// (DevicePreset::path_occupancy); a pixel on time writes its entry to `memory`, the row's frame memory.
+template <class Trace>
+LineResult schedule_path_line(const DevicePreset& preset, std::int64_t spheres, std::span<core::Rgb444> line,
+                              std::span<AccumEntry> memory, const Trace& trace) {
+  LineResult result;
+  result.late_pixels = schedule_pixels(
+      preset.workers, preset.lead_cycles, preset.path_drain_cycles(), line, trace,
+      [&](const PathPixel& p) {
+        return preset.path_occupancy(spheres, p.rays, {p.bounces.lambertian, p.bounces.metal, p.bounces.dielectric});
+      },
+      [&](int col, const PathPixel& p) {
+        memory[static_cast<std::size_t>(col)] = p.entry;
+        result.rays += p.rays;
+        return p.colour;
+      });
   return result;
 }
 
@@ -63,6 +99,10 @@ class Controller {
   // Fills `line` (640 pixels) with row `row` of the image of `scene`: the worker's pixels on
   // schedule_line's schedule.
   LineResult render_line(int row, const SceneMemory& scene, std::span<core::Rgb444> line) const;
+  // The path preset's row `row` of `frame`: reads and writes the row's frame memory (`memory`, 640 entries) and
+  // adds what its workers did to `counters` (every pixel traced, late or not: the workers did the work).
+  LineResult render_path_line(int row, const SceneMemory& scene, const PathFrame& frame, std::span<AccumEntry> memory,
+                              std::span<core::Rgb444> line, PathCounters& counters) const;
 
   // How many pixels each worker finishes within the lead time, with `spheres` spheres, when no pixel
   // reflects (0..64 per worker with 10 workers).
@@ -70,7 +110,8 @@ class Controller {
 
  private:
   DevicePreset preset_;
-  Worker worker_;  // the workers are identical and stateless between pixels, so one model serves all N
+  Worker worker_;     // the workers are identical and stateless between pixels, so one model serves all N
+  FixedArith arith_;  // the path preset's arithmetic
 };
 
 }  // namespace tripsitter::device

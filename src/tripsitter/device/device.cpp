@@ -1,5 +1,6 @@
 #include <tripsitter/device/device.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace tripsitter::device {
@@ -13,20 +14,46 @@ DevicePreset checked(const DevicePreset& preset) {
 }  // namespace
 
 Device::Device(const DevicePreset& preset, link::WireVersion wire, int threads, DeviceModel model)
-    : preset_(checked(preset)), receiver_(preset_, wire),
+    : preset_(checked(preset)), wire_(wire), receiver_(preset_, wire),
       controller_(preset_),
-      ahead_(model == DeviceModel::kPlain ? nullptr : std::make_unique<FrameLines>(preset_, threads)) {
+      ahead_(model == DeviceModel::kPlain ? nullptr : std::make_unique<FrameLines>(preset_, threads)),
+      memory_(preset_.path ? std::make_unique<FrameMemory>() : nullptr) {
+  if (preset_.path) {
+    path_frame_.spp = preset_.path->spp;
+    path_frame_.depth = preset_.path->depth;
+    path_frame_.dither = preset_.path->dither;
+  }
   // Out of reset at the start of vertical blanking.
   while (vga_.line() != vga_.mode().v_visible) vga_.tick();
+}
+
+void Device::next_path_frame(bool swapped) {
+  if (!path_traced()) return;
+  if (swapped && scene_.content != shown_content_) {
+    shown_content_ = scene_.content;
+    path_frame_.epoch = static_cast<std::uint8_t>((path_frame_.epoch + 1) % kEpochs);
+    path_frame_.frame = 0;
+    surfaces_.resize(scene_.surfaces.size());
+    for (std::size_t i = 0; i < surfaces_.size(); ++i) surfaces_[i] = path_surface(scene_.surfaces[i]);
+    path_frame_.surfaces = surfaces_;
+  } else {
+    ++path_frame_.frame;
+  }
+  building_.samples_per_pixel =
+      static_cast<int>(std::min<std::uint64_t>(kMaxSamples / path_frame_.spp * path_frame_.spp,
+                                               (std::uint64_t{path_frame_.frame} + 1) * static_cast<std::uint64_t>(path_frame_.spp)));
 }
 
 void Device::start_line(int line) {
   const VgaMode& mode = vga_.mode();
   if (line == mode.v_visible) {
     // Vertical blanking: a waiting world becomes scene memory, fixed until the next blanking.
-    receiver_.swap_if_pending(scene_);
-    if (ahead_) ahead_->start(scene_);
-    building_ = {scene_.sequence, scene_.valid, 0, 0};
+    const bool swapped = receiver_.swap_if_pending(scene_);
+    building_ = FrameStats{};
+    building_.sequence = scene_.sequence;
+    building_.has_world = scene_.valid;
+    next_path_frame(swapped);
+    if (ahead_) ahead_->start(scene_, path_traced() ? &path_frame_ : nullptr, memory_.get());
   }
   const int next = (line + 1) % mode.v_total();
   if (next < mode.v_visible) {
@@ -36,9 +63,14 @@ void Device::start_line(int line) {
       const FrameLines::Line& computed = ahead_->line(next);
       back = computed.pixels;
       r.late_pixels = computed.late_pixels;
+      r.rays = computed.rays;
+      building_.path += computed.counters;
+    } else if (path_traced()) {
+      r = controller_.render_path_line(next, scene_, path_frame_, memory_->row(next), back, building_.path);
     } else {
       r = controller_.render_line(next, scene_, back);
     }
+    building_.rays += static_cast<std::uint64_t>(r.rays);
     if (r.late_pixels > 0) {
       building_.late_pixels += r.late_pixels;
       ++building_.late_lines;

@@ -11,12 +11,15 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include <tripsitter/core/rgb444.h>
 #include <tripsitter/device/controller.h>
 #include <tripsitter/device/frame_lines.h>
+#include <tripsitter/device/frame_memory.h>
+#include <tripsitter/device/path_kernel.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/receiver.h>
 #include <tripsitter/device/scene_memory.h>
@@ -31,6 +34,11 @@ struct FrameStats {
   bool has_world = false;       // false before the first good world
   int late_pixels = 0;
   int late_lines = 0;
+  // The path preset (zero otherwise): samples each pixel on time in every frame has accumulated (at most
+  // kMaxSamples), rays traced for the pixels on time, and what the workers did (PathCounters).
+  int samples_per_pixel = 0;
+  std::uint64_t rays = 0;
+  PathCounters path;
 };
 
 // Which model computes the pixels. Both show the same pixels and count the same late pixels, bit for bit.
@@ -68,11 +76,17 @@ class Device : public link::Endpoint {
   const ReceiverStats& receiver_stats() const { return receiver_.stats(); }
   const DevicePreset& preset() const { return preset_; }
   const SceneMemory& scene() const { return scene_; }
+  // The path preset's frame memory as the last frame left it (null for other presets).
+  const FrameMemory* frame_memory() const { return memory_.get(); }
 
  private:
   void start_line(int line);
+  // The path preset at vertical blanking: a world of new content starts a new epoch in frame memory.
+  void next_path_frame(bool swapped);
+  bool path_traced() const { return memory_ && wire_ != link::WireVersion::kV1 && scene_.valid; }
 
   DevicePreset preset_;
+  link::WireVersion wire_;
   Receiver receiver_;
   Controller controller_;
   SceneMemory scene_;
@@ -80,6 +94,11 @@ class Device : public link::Endpoint {
   std::array<std::array<core::Rgb444, kLineWidth>, 2> line_buffers_{};
   std::unique_ptr<FrameLines> ahead_;  // the fast model's lines, null for the plain model
   int front_ = 0;  // index of the line buffer the VGA block reads
+  // The path preset: frame memory, the surfaces of the world in scene memory and the frame being drawn of it.
+  std::unique_ptr<FrameMemory> memory_;
+  std::vector<PathSurface> surfaces_;
+  PathFrame path_frame_;
+  std::optional<std::uint32_t> shown_content_;  // content of the world accumulated in frame memory
   FrameStats building_;
   std::uint64_t total_late_pixels_ = 0;
   std::uint64_t total_late_lines_ = 0;

@@ -38,7 +38,9 @@ void FastTracer::load(const SceneMemory& scene) {
            std::abs(s.center.z) < kNarrowLimit && s.radius >= 0 && s.radius < kNarrowLimit;
   });
   if (!narrow_) return;
-  columns_ = std::min(kScreenWidth, preset_.workers * controller_.pixels_in_time(static_cast<std::int64_t>(n)));
+  // (A path pixel that has converged costs one issue slot, so on the path preset any column can be on time.)
+  columns_ = preset_.path ? kScreenWidth
+                          : std::min(kScreenWidth, preset_.workers * controller_.pixels_in_time(static_cast<std::int64_t>(n)));
   cx_.resize(n);
   cy_.resize(n);
   cz_.resize(n);
@@ -140,10 +142,8 @@ void FastTracer::build_ball(std::size_t node, int first, int count) {
   build_ball(static_cast<std::size_t>(ball.left) + 1, first + count / 2, count - count / 2);
 }
 
-LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const {
-  const SceneMemory& scene = *scene_;
-  if (!narrow_) return controller_.render_line(row, scene, line);
-
+void FastTracer::primary_hits(int row, std::array<int, kLineWidth>& best,
+                              std::array<std::int64_t, kLineWidth>& best_num) const {
   // Every camera ray of the row against the row's spheres, sphere by sphere over its columns. The ray of
   // column col is d = (x, dy, 320) (core::device_ray): a = x^2 + e, b = 2u with u = d.c = x c_x + u0, c' as
   // loaded; the kernel's hit_num takes it from there. |u| < 880 * 2^28 and a < 2^19, so b fits 64 bits (as
@@ -151,8 +151,6 @@ LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const 
   const core::Vec3<std::int64_t> row_ray = core::device_ray<std::int64_t>(0, row);
   const std::int64_t dy = row_ray.y;
   const std::int64_t e = dy * dy + row_ray.z * row_ray.z;
-  std::array<int, kScreenWidth> best;
-  std::array<std::int64_t, kScreenWidth> best_num;
   best.fill(-1);
   for (int k = row_start_[static_cast<std::size_t>(row)]; k < row_start_[static_cast<std::size_t>(row) + 1]; ++k) {
     const auto i = static_cast<std::size_t>(row_spheres_[static_cast<std::size_t>(k)]);
@@ -172,7 +170,14 @@ LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const 
       }
     }
   }
+}
 
+LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const {
+  const SceneMemory& scene = *scene_;
+  if (!narrow_) return controller_.render_line(row, scene, line);
+  std::array<int, kLineWidth> best;
+  std::array<std::int64_t, kLineWidth> best_num;
+  primary_hits(row, best, best_num);
   const std::span<const core::KernelSphere<std::int64_t>> spheres(scene.geometry);
   const auto surface_of = [&scene](int i) { return kernel_surface(scene, i); };
   return schedule_line(preset_, static_cast<std::int64_t>(spheres.size()), line, [&](int col) {
@@ -194,6 +199,27 @@ LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const 
         [&](const core::KernelRay<Int128>& ray, int excluded, int pass) {
           return pass == 0 ? primary : closest_hit(ray, excluded);
         });
+  });
+}
+
+LineResult FastTracer::render_path_line(int row, const PathFrame& frame, std::span<AccumEntry> memory,
+                                        std::span<core::Rgb444> line, PathCounters& counters) const {
+  const SceneMemory& scene = *scene_;
+  if (!narrow_) return controller_.render_path_line(row, scene, frame, memory, line, counters);
+  // Every sample of a pixel starts with the same camera ray (the device's rays have no jitter): its closest hit
+  // is the row's search's; the bounced rays search the balls.
+  std::array<int, kLineWidth> best;
+  std::array<std::int64_t, kLineWidth> best_num;
+  primary_hits(row, best, best_num);
+  const std::span<const core::KernelSphere<std::int64_t>> spheres(scene.geometry);
+  return schedule_path_line(preset_, static_cast<std::int64_t>(spheres.size()), line, memory, [&](int col) {
+    const auto c = static_cast<std::size_t>(col);
+    const PathHit primary{best[c], best_num[c], false};
+    const auto closest = [&](const PathRay& path) {
+      if (path.from < 0) return primary;
+      return with_far_side(arith_, path, closest_hit(path.ray, path.from), spheres);
+    };
+    return trace_path_pixel(arith_, col, row, memory[c], spheres, frame, counters, closest);
   });
 }
 

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cstdint>
 #include <limits>
@@ -71,6 +72,11 @@ class FastTracer {
   // Calls may run on several threads at once.
   LineResult render_line(int row, std::span<core::Rgb444> line) const;
 
+  // The path preset's row `row` of `frame`: what Controller::render_path_line(row, scene, frame, memory, line,
+  // counters) gives, and the same counters. Calls may run on several threads at once for different rows.
+  LineResult render_path_line(int row, const PathFrame& frame, std::span<AccumEntry> memory,
+                              std::span<core::Rgb444> line, PathCounters& counters) const;
+
   // Whether the loaded world takes the fast paths (false: the plain worker traces it).
   bool narrow() const { return narrow_; }
 
@@ -83,6 +89,8 @@ class FastTracer {
     int left = 0;
   };
 
+  // The closest hit of every camera ray of row `row`: best[col] the sphere (-1: none), best_num[col] its num.
+  void primary_hits(int row, std::array<int, kLineWidth>& best, std::array<std::int64_t, kLineWidth>& best_num) const;
   // The closest hit of a reflected ray (or any ray whose origin and direction fit the 64-bit bounds).
   core::KernelHit<core::Int128> closest_hit(const core::KernelRay<core::Int128>& ray, int excluded) const;
   // Builds balls_[node] around order_[first, first + count), and its subtree.

@@ -24,9 +24,16 @@ void FrameLines::join() {
   threads_.clear();
 }
 
-void FrameLines::start(const SceneMemory& scene) {
+void FrameLines::start(const SceneMemory& scene, const PathFrame* path, FrameMemory* memory) {
   join();  // the previous frame's rows have all been taken; its helpers are finishing or done
   scene_ = scene;
+  path_.reset();
+  memory_ = memory;
+  if (path) {
+    surfaces_.assign(path->surfaces.begin(), path->surfaces.end());
+    path_ = *path;
+    path_->surfaces = surfaces_;
+  }
   fast_.load(scene_);
   for (int row = 0; row < kRows; ++row) done_[row].store(false, std::memory_order_relaxed);
   next_.store(0, std::memory_order_relaxed);
@@ -35,7 +42,14 @@ void FrameLines::start(const SceneMemory& scene) {
 
 void FrameLines::compute(int row) {
   Line& line = lines_[static_cast<std::size_t>(row)];
-  line.late_pixels = fast_.render_line(row, line.pixels).late_pixels;
+  if (path_) {
+    line.counters = {};
+    const LineResult r = fast_.render_path_line(row, *path_, memory_->row(row), line.pixels, line.counters);
+    line.late_pixels = r.late_pixels;
+    line.rays = r.rays;
+  } else {
+    line.late_pixels = fast_.render_line(row, line.pixels).late_pixels;
+  }
   done_[row].store(true, std::memory_order_release);
   done_[row].notify_all();
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include <tripsitter/device/frame_memory.h>
 #include <tripsitter/device/sqrt_unit.h>
 
 namespace tripsitter::device {
@@ -23,6 +24,25 @@ std::int64_t DevicePreset::pixel_occupancy(std::int64_t spheres, int bounces) co
     return passes * std::max<std::int64_t>(spheres, 1) * costs.issue_interval + bounces * (pass_latency + costs.reflect);
   }
   return costs.pixel_setup + passes * spheres * per_sphere_cycles(*this) + bounces * costs.reflect + costs.shade;
+}
+
+std::int64_t DevicePreset::path_occupancy(std::int64_t spheres, std::int64_t rays,
+                                          const std::array<std::int64_t, 3>& bounces) const {
+  const std::int64_t scatters = bounces[0] * costs.scatter_lambertian + bounces[1] * costs.scatter_metal +
+                                bounces[2] * costs.scatter_dielectric;
+  const std::int64_t stalls = bounces[0] + bounces[1] + bounces[2];
+  if (costs.pipelined) {
+    const std::int64_t pass_latency = costs.pixel_setup + per_sphere_cycles(*this);
+    // A converged pixel traces nothing but still takes an issue slot to be read and shown.
+    return std::max<std::int64_t>(costs.issue_interval,
+                                  rays * std::max<std::int64_t>(spheres, 1) * costs.issue_interval +
+                                      stalls * pass_latency + scatters);
+  }
+  return costs.pixel_setup + rays * spheres * per_sphere_cycles(*this) + scatters + costs.shade + costs.accumulate;
+}
+
+std::int64_t DevicePreset::path_drain_cycles() const {
+  return costs.pipelined ? drain_cycles() + costs.accumulate : 0;
 }
 
 std::int64_t DevicePreset::drain_cycles() const {
@@ -48,6 +68,15 @@ std::optional<std::string> DevicePreset::validate() const {
   if (workers < 1 || workers > kLineWidth) return "workers must be 1 to 640";
   if (lead_cycles < 1 || lead_cycles > kLineCycles) return "lead cycles must be 1 to 3200";
   if (max_spheres < 1 || max_spheres > 1'000'000) return "scene memory must hold 1 to 1000000 spheres";
+  if (costs.scatter_lambertian < 0 || costs.scatter_metal < 0 || costs.scatter_dielectric < 0 || costs.accumulate < 0)
+    return "the path costs must not be negative";
+  if (path) {
+    if (path->spp < 1 || path->spp > kMaxSamples) return "samples per pixel must be 1 to 255";
+    if (path->depth < 1 || path->depth > kMaxPathDepth) return "path depth must be 1 to 16";
+    if (sqrt_iterations < 15) return "the path preset's square roots need at least 15 iterations";
+    for (const auto* fmt : {&x, &y, &z, &radius})
+      if (fmt->total_bits > 24) return "the path preset's formats must be at most 24 bits wide";
+  }
   return std::nullopt;
 }
 
@@ -90,11 +119,24 @@ DevicePreset board_2023_preset() {
   return p;
 }
 
-std::vector<std::string> preset_names() { return {"wide", "board-2023"}; }
+DevicePreset path_preset() {
+  DevicePreset p = wide_preset();
+  p.name = "path";
+  p.summary =
+      "wide's formats, 64 pipelined workers path-tracing lambertian, metal and dielectric spheres, 1 sample per pixel "
+      "per frame accumulated in frame memory, 4 rays per path";
+  p.max_bounces = 0;
+  p.workers = 64;
+  p.path = DevicePath{};
+  return p;
+}
+
+std::vector<std::string> preset_names() { return {"wide", "board-2023", "path"}; }
 
 std::optional<DevicePreset> preset_by_name(std::string_view name) {
   if (name == "wide") return wide_preset();
   if (name == "board-2023") return board_2023_preset();
+  if (name == "path") return path_preset();
   return std::nullopt;
 }
 

@@ -2,6 +2,7 @@
 // docs/device.md explains each preset's numbers and where they come from.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -19,6 +20,7 @@ inline constexpr int kPixelClockHz = 25'000'000;
 inline constexpr int kCyclesPerPixelClock = kDeviceClockHz / kPixelClockHz;  // 4
 inline constexpr int kLineWidth = core::kScreenWidth;
 inline constexpr int kLineCycles = 800 * kCyclesPerPixelClock;               // 3200 device cycles per line
+inline constexpr int kMaxPathDepth = 16;                                     // rays per path in the path preset
 
 // What one worker spends, in device cycles. A pixel's ray is tested against every sphere in turn (a pass);
 // a pixel that reflects off k metals makes k + 1 passes and k reflection steps (docs/device.md).
@@ -40,6 +42,19 @@ struct CycleCosts {
   int shade = 4;
   int reflect = 10;        // one reflection: hit point, normal, reflected direction, scaling
   int issue_interval = 1;  // pipelined only
+  // The path preset (docs/device.md, "Cycle costs of the path preset"): a bounce from the closest hit known to
+  // the next ray's direction, by material; and the frame-memory read-modify-write and display of a pixel.
+  int scatter_lambertian = 20;
+  int scatter_metal = 18;
+  int scatter_dielectric = 42;
+  int accumulate = 8;
+};
+
+// The path preset's tracer (path_kernel.h): samples per pixel per frame, rays per path, ordered dithering.
+struct DevicePath {
+  int spp = 1;
+  int depth = 4;
+  bool dither = true;
 };
 
 struct DevicePreset {
@@ -57,6 +72,9 @@ struct DevicePreset {
   int lead_cycles = 3000;
   CycleCosts costs;
   std::uint32_t max_spheres = 1;  // scene memory capacity
+  // Present: the workers path-trace v2 worlds (path_kernel.h) and accumulate them in frame memory; absent: the
+  // mirror model. v1 words are normal-shaded either way (the board's wire carries no material).
+  std::optional<DevicePath> path;
 
   int frac_bits() const { return x.frac_bits; }  // the same for x, y, z and radius
   // Cycles a pixel with `bounces` reflections keeps its worker from starting the next pixel, with
@@ -68,6 +86,11 @@ struct DevicePreset {
   // when no pixel reflects: (k + 1) * pixel_occupancy(spheres, 0) + drain_cycles(). With reflections the
   // controller sums each pixel's own occupancy.
   std::int64_t finish_cycle(std::int64_t k, std::int64_t spheres) const;
+  // The path preset's pixel: `rays` passes over `spheres` spheres, with `bounces` scatters between them (each
+  // stalls the in-order worker until its direction is known).
+  std::int64_t path_occupancy(std::int64_t spheres, std::int64_t rays, const std::array<std::int64_t, 3>& bounces) const;
+  // Cycles from a path pixel's last pass issuing to its colour in the line buffer (pipelined; 0 otherwise).
+  std::int64_t path_drain_cycles() const;
   // Why the preset cannot work, or nothing when it is consistent.
   std::optional<std::string> validate() const;
 };
@@ -76,6 +99,8 @@ struct DevicePreset {
 DevicePreset wide_preset();
 // "board-2023": the original board's formats, 10 workers and measured cycle costs.
 DevicePreset board_2023_preset();
+// "path": the wide preset's formats and pipelined workers, path-tracing with frame memory (the report's section 7).
+DevicePreset path_preset();
 
 std::vector<std::string> preset_names();
 std::optional<DevicePreset> preset_by_name(std::string_view name);

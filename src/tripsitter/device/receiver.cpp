@@ -1,9 +1,35 @@
 #include <tripsitter/device/receiver.h>
 
+#include <array>
 #include <string>
 #include <utility>
 
+#include <tripsitter/core/crc32.h>
+#include <tripsitter/device/path_kernel.h>
+
 namespace tripsitter::device {
+namespace {
+
+// The CRC-32 of every sphere's geometry and surface, little-endian field by field, as the bytes are written.
+std::uint32_t content_of(const SceneMemory& scene) {
+  std::uint32_t crc = 0;
+  for (std::size_t i = 0; i < scene.geometry.size(); ++i) {
+    const auto& g = scene.geometry[i];
+    const SurfaceWord& w = scene.surfaces[i];
+    std::array<std::uint8_t, 4 * 4 + 1 + 3 + 2 + 2> bytes{};
+    std::size_t at = 0;
+    for (const std::int64_t v : {g.center.x, g.center.y, g.center.z, g.radius})
+      for (int b = 0; b < 4; ++b) bytes[at++] = static_cast<std::uint8_t>(static_cast<std::uint64_t>(v) >> (8 * b));
+    bytes[at++] = w.material;
+    for (const std::uint8_t a : w.albedo) bytes[at++] = a;
+    for (const std::uint16_t v : {w.fuzz, w.ior})
+      for (int b = 0; b < 2; ++b) bytes[at++] = static_cast<std::uint8_t>(v >> (8 * b));
+    crc = core::crc32(bytes, crc);
+  }
+  return crc;
+}
+
+}  // namespace
 
 Receiver::Receiver(const DevicePreset& preset, link::WireVersion wire)
     : preset_(preset),
@@ -66,6 +92,7 @@ void Receiver::accept_v1(const link::V1Sphere& word) {
   // A v1 word carries no ior: scene memory holds a scene material's default, 1.5, in the v2 wire's u4.12.
   constexpr auto kIor = static_cast<std::uint16_t>(1.5 * link::kV2IorScale);
   back_.surfaces.assign(1, SurfaceWord{link::kMaterialLambertian, {r, g, b}, 0, kIor});
+  back_.content = content_of(back_);
   back_.sequence = ++v1_words_;
   back_.valid = true;
   if (pending_) ++stats_.worlds_replaced;
@@ -88,6 +115,12 @@ void Receiver::accept_v2(link::World&& world) {
       reject("sphere " + std::to_string(i) + " lies outside the device's number formats", bytes);
       return;
     }
+    if (preset_.path && s.material == link::kMaterialDielectric && (s.ior < kPathIorMin || s.ior > kPathIorMax)) {
+      reject("sphere " + std::to_string(i) + " has an index of refraction of " + std::to_string(s.ior / 4096.0) +
+                 ", outside the path preset's 0.25 to 8",
+             bytes);
+      return;
+    }
   }
   back_.geometry.resize(world.spheres.size());
   back_.surfaces.resize(world.spheres.size());
@@ -96,6 +129,7 @@ void Receiver::accept_v2(link::World&& world) {
     back_.geometry[i] = {{s.x, s.y, s.z}, s.radius};
     back_.surfaces[i] = {s.material, s.albedo, s.fuzz, s.ior};
   }
+  back_.content = content_of(back_);
   if (last_sequence_ && world.sequence > *last_sequence_) stats_.worlds_missing += world.sequence - *last_sequence_ - 1;
   last_sequence_ = world.sequence;
   back_.sequence = world.sequence;

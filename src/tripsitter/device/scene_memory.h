@@ -21,6 +21,9 @@ struct SurfaceWord {
 struct SceneMemory {
   bool valid = false;          // false until the first good world arrives
   std::uint32_t sequence = 0;  // the v2 frame's sequence number; for v1, the count of words received
+  // CRC-32 of the spheres' fields as received (not the sequence number): the path preset keeps accumulating
+  // while a new world's content equals the one shown (docs/device.md, "Frame memory").
+  std::uint32_t content = 0;
   // Geometry in raw fixed point (the preset's fractional bits), apart from surfaces so the kernel reads it directly.
   std::vector<core::KernelSphere<std::int64_t>> geometry;
   std::vector<SurfaceWord> surfaces;

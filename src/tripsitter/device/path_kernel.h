@@ -1,0 +1,307 @@
+// The path preset's worker: one sample of a pixel as a path through the world, in the device's fixed point
+// (docs/device.md, "The path preset"). The report's section 7 done on the device: lambertian surfaces drawn
+// from an xorshift generator, fuzzed metal, dielectrics (Snell, total internal reflection, Schlick), several
+// bounces with a cut-off, the colour carried as an integer throughput, the sky as light.
+//
+// Geometry is the mirror model's (core/sphere_kernel.h): a ray is a raw origin and an integer direction of any
+// length; the closest hit compares num = t * 2a. A path ray also knows the sphere it leaves (`from`) and
+// whether it went into it (`into`, a refracted ray or one reflected inside a dielectric). The closest-hit
+// search skips `from` (a ray leaving a convex sphere outwards never meets it again, so no epsilon is needed
+// against self-intersection) and, for a ray inside `from`, adds `from`'s far intersection, num = b + sqrt(D)
+// (far_hit below). A sphere that holds a ray's origin without the ray having entered it is not seen, as on the
+// board (num = b - sqrt(D) <= 0): nested dielectrics are approximated (the float path tracer sees them).
+//
+// One bounce, at the hit point p = o + num d / 2a (rounded to the position grid, as the mirror model does):
+// n = unit(p - c), the outward normal; then by material
+//   lambertian  d' = n + u, u uniform on the unit sphere (n itself when the sum is shorter than 2^-6)
+//   metal       d' = r + fuzz u, r = d^ - 2 (d^.n) n; absorbed (the path ends black) when d'.n <= 0
+//   dielectric  eta = 1/ior entering, ior leaving; cos = -d^.n_f with n_f the normal facing the ray;
+//               total internal reflection when eta^2 (1 - cos^2) > 1; otherwise reflect when a 14-bit draw
+//               is below Schlick's r0 + (1 - r0)(1 - cos)^5, else refract: d' = eta (d^ + cos n_f)
+//               - sqrt(|1 - |eta (d^ + cos n_f)|^2|) n_f. ior exactly 1 goes straight on.
+// and the throughput takes the albedo. A path that leaves the world takes the sky's colour of its direction;
+// one still bouncing after `depth` rays is black (the float path tracer's max_depth).
+//
+// Formats: unit vectors, cosines and reflectances times 2^14 (approx.h); the throughput and light per channel
+// times 2^16 (1.0 = 65536); albedo bytes a as (a + a/128) / 256, so 255 is exactly 1.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include <tripsitter/core/fixed.h>
+#include <tripsitter/core/sphere_kernel.h>
+#include <tripsitter/device/approx.h>
+#include <tripsitter/device/frame_memory.h>
+#include <tripsitter/device/path_rng.h>
+#include <tripsitter/device/scene_memory.h>
+#include <tripsitter/device/worker.h>
+#include <tripsitter/link/wire_v2.h>
+
+namespace tripsitter::device {
+
+// A hit of a path ray: the sphere, num = t * 2a, and whether it is the far side of the sphere the ray is in.
+struct PathHit {
+  int index = -1;
+  core::Int128 num = 0;
+  bool inside = false;
+};
+
+// The ray of a path: where it starts, where it goes, and the sphere it leaves.
+struct PathRay {
+  core::KernelRay<core::Int128> ray;
+  int from = -1;      // the sphere the ray leaves, -1 for the camera's
+  bool into = false;  // the ray went into `from` (it meets `from` again only from inside)
+};
+
+// Per sphere, what the dielectric needs, computed as the world enters scene memory (one division each):
+// eta entering and leaving (times 2^14) and Schlick's r0 = ((ior - 1)/(ior + 1))^2 (times 2^14).
+struct PathSurface {
+  std::uint8_t material = link::kMaterialLambertian;
+  std::array<std::uint16_t, 3> albedo{};  // a + a/128: 0..256, times 2^-8
+  std::uint16_t fuzz = 0;                 // times 2^-16
+  bool passes_straight = false;           // ior exactly 1
+  std::int64_t eta_enter = 0, eta_leave = 0, r0 = 0;
+};
+
+// The supported indices of refraction, in the wire's u4.12: 0.25 to 8. The receiver refuses others and the
+// host saturates to them (docs/device.md, "The path preset").
+inline constexpr std::uint16_t kPathIorMin = 1024;
+inline constexpr std::uint16_t kPathIorMax = 32768;
+
+PathSurface path_surface(const SurfaceWord& word);
+
+// Bounces that led to another ray, by the material that scattered them (their cycle costs differ).
+struct PathBounces {
+  int lambertian = 0, metal = 0, dielectric = 0;
+  int total() const { return lambertian + metal + dielectric; }
+  PathBounces& operator+=(const PathBounces& o) {
+    lambertian += o.lambertian;
+    metal += o.metal;
+    dielectric += o.dielectric;
+    return *this;
+  }
+};
+
+// What one sample came to.
+struct PathSample {
+  std::array<std::int64_t, 3> light{};  // times 2^16
+  int rays = 0;                         // closest-hit passes over the spheres: bounces.total() + 1
+  PathBounces bounces;
+};
+
+// Counts of what the worker did, for the operation ledger (docs/device.md, "Operations").
+struct PathCounters {
+  std::uint64_t samples = 0, rays = 0, lambertian = 0, metal = 0, dielectric = 0, refracted = 0, absorbed = 0,
+                sky = 0, cut = 0, draws = 0;
+  PathCounters& operator+=(const PathCounters& o);
+};
+
+// The far intersection of `ray` with sphere s, num = b + sqrt(D), when the ray is inside it: > 0 exactly when
+// the line meets the sphere ahead of the origin's far side (0 when D < 0).
+inline core::Int128 far_num(const FixedArith& arith, const core::KernelRay<core::Int128>& ray,
+                            const core::KernelSphere<std::int64_t>& s) {
+  using core::Int128;
+  const core::Vec3<Int128> oc{Int128(s.center.x) - ray.origin.x, Int128(s.center.y) - ray.origin.y,
+                              Int128(s.center.z) - ray.origin.z};
+  for (int k = 0; k < 3; ++k) arith.check(oc[k], core::Width::kToCentre);
+  const Int128 a = core::dot(ray.direction, ray.direction);
+  const Int128 b = 2 * core::dot(ray.direction, oc);
+  const Int128 c_prime = core::dot(oc, oc) - Int128(s.radius) * s.radius;
+  arith.check(b, core::Width::kB);
+  arith.check(c_prime, core::Width::kCPrime);
+  const Int128 disc = b * b - 4 * a * c_prime;
+  arith.check(disc, core::Width::kDisc);
+  if (disc < 0) return 0;
+  const Int128 num = b + arith.sqrt(disc);
+  arith.check(num, core::Width::kNum);
+  return num;
+}
+
+// The closest hit of a path ray given the closest near hit over every sphere but `from` (core::closest_hit's
+// result, or the fast model's): `from`'s far side competes when the ray is inside it; ties go to the lower index.
+inline PathHit with_far_side(const FixedArith& arith, const PathRay& path, core::KernelHit<core::Int128> near,
+                             std::span<const core::KernelSphere<std::int64_t>> spheres) {
+  PathHit hit{near.index, near.num, false};
+  if (!path.into) return hit;
+  const core::Int128 far = far_num(arith, path.ray, spheres[static_cast<std::size_t>(path.from)]);
+  if (far > 0 && (hit.index < 0 || far < hit.num || (far == hit.num && path.from < hit.index)))
+    hit = {path.from, far, true};
+  return hit;
+}
+
+// One sample of the pixel whose camera ray is d0. closest(path) returns the path ray's PathHit (the plain
+// search, or the fast model's). `depth` rays at most (1..).
+template <class Closest>
+PathSample trace_path_sample(const FixedArith& arith, const core::Vec3<core::Int128>& d0,
+                             std::span<const core::KernelSphere<std::int64_t>> spheres,
+                             std::span<const PathSurface> surfaces, int depth, PathRng& rng, PathCounters& counters,
+                             const Closest& closest) {
+  using core::Int128;
+  using approx::kUnit;
+  using approx::kUnitBits;
+  using approx::round_shift;
+  using approx::Unit3;
+  PathSample out;
+  PathRay path{{{}, d0}, -1, false};
+  std::array<std::int64_t, 3> throughput{65536, 65536, 65536};
+  ++counters.samples;
+  const auto draw = [&] {
+    ++counters.draws;
+    return rng.next();
+  };
+  for (int rays = 1;; ++rays) {
+    ++counters.rays;
+    out.rays = rays;
+    const PathHit hit = closest(path);
+    const core::Vec3<Int128>& d = path.ray.direction;
+    if (hit.index < 0) {
+      // The sky: the float path tracer's blend of white and blue by a = (1 + up.d^)/2, up = -y in view space.
+      ++counters.sky;
+      const std::int64_t up = -approx::unit(d).y;
+      const std::int64_t a = (kUnit + up + 1) >> 1;  // 0..2^14
+      constexpr std::array<std::int64_t, 3> kBottom{65536, 65536, 65536};
+      constexpr std::array<std::int64_t, 3> kTop{32768, 45875, 65536};
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::int64_t sky = kBottom[k] + round_shift((kTop[k] - kBottom[k]) * a, kUnitBits);
+        out.light[k] = round_shift(throughput[k] * sky, 16);
+      }
+      return out;
+    }
+    if (rays == depth) {
+      ++counters.cut;
+      return out;
+    }
+    const auto i = static_cast<std::size_t>(hit.index);
+    const auto& s = spheres[i];
+    const PathSurface& surface = surfaces[i];
+    // The hit point and the outward normal, as the mirror model's reflect computes them.
+    const Int128 two_a = 2 * core::dot(d, d);
+    core::Vec3<Int128> p, m;
+    for (int k = 0; k < 3; ++k) {
+      const Int128 num_d = hit.num * d[k];
+      arith.check(num_d, core::Width::kNumTimesD);
+      p[k] = path.ray.origin[k] + FixedArith::round_div(num_d, two_a);
+      arith.check(p[k], core::Width::kOrigin);
+      m[k] = p[k] - s.center[k];
+      arith.check(m[k], core::Width::kHitNormal);
+    }
+    if (m.x == 0 && m.y == 0 && m.z == 0) m = {0, 0, -1};  // a radius-1 sphere seen head-on: the grid's centre
+    const Unit3 n = approx::unit(m);
+    Unit3 next;
+    PathRay bounced{{p, {}}, hit.index, false};
+    switch (surface.material) {
+      case link::kMaterialMetal: {
+        ++counters.metal;
+        const Unit3 in = approx::unit(d);
+        next = approx::reflect(in, n);
+        if (surface.fuzz != 0) {
+          const Unit3 u = approx::random_unit(draw(), arith.sqrt_unit);
+          for (int k = 0; k < 3; ++k) next[k] += round_shift(u[k] * surface.fuzz, 16);
+        }
+        if (core::dot(next, n) <= 0) {  // fuzz pushed it below the surface
+          ++counters.absorbed;
+          return out;
+        }
+        break;
+      }
+      case link::kMaterialDielectric: {
+        ++counters.dielectric;
+        const bool front = !hit.inside;
+        if (surface.passes_straight) {
+          bounced.into = front;
+          for (int k = 0; k < 3; ++k) next[k] = static_cast<std::int64_t>(d[k]);
+          break;
+        }
+        const Unit3 nf = front ? n : -n;
+        const Unit3 in = approx::unit(d);
+        const std::int64_t cos = std::min(-approx::dot_unit(in, nf), kUnit);
+        const std::int64_t eta = front ? surface.eta_enter : surface.eta_leave;
+        const std::int64_t sin2 = kUnit * kUnit - cos * cos;  // times 2^28
+        const bool total_internal = static_cast<Int128>(eta * eta) * sin2 > (Int128{1} << 56);
+        const std::int64_t reflectance =
+            surface.r0 + round_shift((kUnit - surface.r0) * approx::pow5(kUnit - std::max<std::int64_t>(cos, 0)), kUnitBits);
+        const bool reflects = total_internal || static_cast<std::int64_t>(draw() >> 18) < reflectance;
+        if (reflects) {
+          next = approx::reflect(in, nf);
+          bounced.into = !front;  // reflected inside, the ray stays in
+        } else {
+          ++counters.refracted;
+          Unit3 perp;
+          for (int k = 0; k < 3; ++k) perp[k] = round_shift(eta * (in[k] + round_shift(cos * nf[k], kUnitBits)), kUnitBits);
+          const std::int64_t q = kUnit * kUnit - core::dot(perp, perp);
+          const auto along = static_cast<std::int64_t>(arith.sqrt(q < 0 ? -q : q));
+          for (int k = 0; k < 3; ++k) next[k] = perp[k] - round_shift(along * nf[k], kUnitBits);
+          bounced.into = front;  // refracted in, or out
+        }
+        break;
+      }
+      default: {
+        ++counters.lambertian;
+        const Unit3 u = approx::random_unit(draw(), arith.sqrt_unit);
+        next = n + u;
+        if (core::dot(next, next) < (std::int64_t{1} << 16)) next = n;  // |n + u| < 2^-6: the normal itself
+        break;
+      }
+    }
+    if (next.x == 0 && next.y == 0 && next.z == 0) {  // no direction left (a refraction at a grazing 0)
+      ++counters.absorbed;
+      return out;
+    }
+    for (std::size_t k = 0; k < 3; ++k) throughput[k] = (throughput[k] * surface.albedo[k] + 128) >> 8;
+    bounced.ray.direction = {next.x, next.y, next.z};
+    path = bounced;
+    switch (surface.material) {
+      case link::kMaterialMetal: ++out.bounces.metal; break;
+      case link::kMaterialDielectric: ++out.bounces.dielectric; break;
+      default: ++out.bounces.lambertian; break;
+    }
+  }
+}
+
+// What the path workers need of a frame besides scene memory.
+struct PathFrame {
+  std::span<const PathSurface> surfaces;  // path_surface of each sphere
+  std::uint32_t frame = 0;                // frames drawn of this world before this one
+  std::uint8_t epoch = 0;                 // the world's epoch in frame memory
+  int spp = 1;
+  int depth = 4;
+  bool dither = true;
+};
+
+// One pixel of a frame: its colour, its new frame-memory entry, and what its samples cost.
+struct PathPixel {
+  core::Rgb444 colour;
+  AccumEntry entry;
+  int rays = 0;          // passes over the spheres, every sample's
+  PathBounces bounces;   // scatters followed by another pass
+};
+
+// Pixel (col, row) of a frame: its entry from frame memory (empty if of another epoch), spp more samples
+// unless that would pass kMaxSamples (a converged pixel traces nothing), and the colour shown.
+template <class Closest>
+PathPixel trace_path_pixel(const FixedArith& arith, int col, int row, const AccumEntry& stored,
+                           std::span<const core::KernelSphere<std::int64_t>> spheres, const PathFrame& frame,
+                           PathCounters& counters, const Closest& closest) {
+  PathPixel out;
+  AccumEntry e = stored.epoch == frame.epoch ? stored : AccumEntry{{}, 0, frame.epoch};
+  if (e.count + frame.spp <= kMaxSamples) {
+    const auto pixel = static_cast<std::uint32_t>(row * core::kScreenWidth + col);
+    const core::Vec3<core::Int128> d0 = device_ray(col, row);
+    for (int s = 0; s < frame.spp; ++s) {
+      PathRng rng = PathRng::for_sample(pixel, frame.frame * static_cast<std::uint32_t>(frame.spp) + static_cast<std::uint32_t>(s));
+      const PathSample sample = trace_path_sample(arith, d0, spheres, frame.surfaces, frame.depth, rng, counters, closest);
+      out.rays += sample.rays;
+      out.bounces += sample.bounces;
+      for (std::size_t k = 0; k < 3; ++k) e.sum[k] += sample_channel(sample.light[k]);
+    }
+    e.count = static_cast<std::uint8_t>(e.count + frame.spp);
+  }
+  out.entry = e;
+  out.colour = e.count > 0 ? display_colour(e, col, row, frame.dither) : core::kBlack;
+  return out;
+}
+
+}  // namespace tripsitter::device
