@@ -3,11 +3,17 @@
 #include <stdexcept>
 
 #include <tripsitter/board/capture.h>
+#include <tripsitter/device/path_kernel.h>
 
 namespace tripsitter::board {
 
 link::SceneFormats formats_of(const device::DevicePreset& preset) {
-  return {preset.x, preset.y, preset.z, preset.radius, preset.max_spheres};
+  link::SceneFormats f{preset.x, preset.y, preset.z, preset.radius, preset.max_spheres};
+  if (preset.path) {
+    f.ior_min = device::kPathIorMin;
+    f.ior_max = device::kPathIorMax;
+  }
+  return f;
 }
 
 Board::Board(scene::Scene scene, BoardConfig config)

@@ -81,6 +81,15 @@ enum class Width {
   kDirNormal,     // d.m
   kReflected,     // r_k = d_k (m.m) - 2 (d.m) m_k
   kTint,          // base channel * prod(albedo), and 255^bounces
+  // The device's path preset (device/path_kernel.h), whose formats are at most 24 bits wide:
+  kUnitVector,    // a unit vector's component, times 2^14
+  kScattered,     // a scattered direction's component
+  kRefractPerp,   // eta (d^ + cos n_f), the refracted direction's part across the normal
+  kRadicand,      // 2^28 - |perp|^2, under the refraction's square root
+  kReflectance,   // Schlick's reflectance and r0, times 2^14
+  kThroughput,    // the path's throughput per channel, times 2^16
+  kLight,         // throughput times sky per channel, times 2^32 before rounding
+  kAccumSum,      // a frame-memory sum of 9-bit samples
 };
 
 // Lets arith check v when it has a check member (the device's fixed point); nothing otherwise.

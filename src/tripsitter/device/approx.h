@@ -104,11 +104,13 @@ inline const SineTable& sine_table() {
 }
 
 // A unit vector uniform on the sphere from one 32-bit draw: z uniform in (-1, 1) from the top 15 bits (odd
-// multiples of 2^-15), the azimuth from the next 12 bits; rho = sqrt(1 - z^2) from the square-root unit.
-inline Unit3 random_unit(std::uint32_t draw, const SqrtUnit& sqrt_unit) {
+// multiples of 2^-15), the azimuth from the next 12 bits; rho = sqrt(1 - z^2) from the square-root unit, sqrt(x)
+// (the unit's recurrence, or its closed form in the fast model).
+template <class Sqrt>
+Unit3 random_unit(std::uint32_t draw, const Sqrt& sqrt) {
   const std::int64_t zq = 2 * static_cast<std::int64_t>(draw >> 17) + 1 - 32768;  // z times 2^15, odd
   const std::int64_t q = (std::int64_t{1} << 30) - zq * zq;                          // (1 - z^2) 2^30 > 0
-  const auto rho = static_cast<std::int64_t>(sqrt_unit(static_cast<core::UInt128>(q >> 2)));  // times 2^14
+  const auto rho = static_cast<std::int64_t>(sqrt(core::Int128{q >> 2}));            // times 2^14
   const unsigned phi = (draw >> 5) & 4095u;
   const SineTable& t = sine_table();
   return {round_shift(rho * t.cos(phi), kUnitBits), round_shift(rho * t.sin(phi), kUnitBits), round_shift(zq, 1)};

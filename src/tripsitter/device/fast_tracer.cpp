@@ -22,7 +22,8 @@ FastTracer::FastTracer(const DevicePreset& preset)
     : preset_(preset),
       controller_(preset),
       arith_{SqrtUnit(preset.sqrt_iterations), FixedArith::extra_bits_of(preset)},
-      narrow_arith_{arith_} {}
+      narrow_arith_{arith_},
+      path_arith_{arith_} {}
 
 void FastTracer::load(const SceneMemory& scene) {
   scene_ = &scene;
@@ -217,9 +218,9 @@ LineResult FastTracer::render_path_line(int row, const PathFrame& frame, std::sp
     const PathHit primary{best[c], best_num[c], false};
     const auto closest = [&](const PathRay& path) {
       if (path.from < 0) return primary;
-      return with_far_side(arith_, path, closest_hit(path.ray, path.from), spheres);
+      return with_far_side(path_arith_, path, closest_hit(path.ray, path.from), spheres);
     };
-    return trace_path_pixel(arith_, col, row, memory[c], spheres, frame, counters, closest);
+    return trace_path_pixel(path_arith_, col, row, memory[c], spheres, frame, counters, closest);
   });
 }
 

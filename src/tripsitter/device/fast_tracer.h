@@ -57,6 +57,15 @@ struct NarrowArith {
   }
 };
 
+// FixedArith with the square-root unit's closed form (the same values, SqrtUnit::closed_form): the path kernel's
+// arithmetic in the fast model.
+struct ClosedFormArith : FixedArith {
+  core::Int128 sqrt(core::Int128 d) const {
+    assert(d >= 0 && d < (core::Int128{1} << 126));
+    return sqrt_unit.closed_form(static_cast<core::UInt128>(d));
+  }
+};
+
 class FastTracer {
  public:
   // |centre_k| and radius below this (raw) keep every sum and product of the fast paths within 64 bits.
@@ -100,6 +109,7 @@ class FastTracer {
   Controller controller_;
   FixedArith arith_;
   NarrowArith narrow_arith_;  // arith_'s unit and checks, in 64 bits
+  ClosedFormArith path_arith_;  // arith_ with the closed-form square root, for the path kernel
   const SceneMemory* scene_ = nullptr;
   bool narrow_ = false;
   int columns_ = 0;  // columns that can be on time: workers * pixels_in_time (later ones are late for sure)

@@ -29,13 +29,17 @@ constexpr std::array<std::array<int, 4>, 4> kBayer{{{0, 8, 2, 10}, {12, 4, 14, 6
 
 }  // namespace
 
+std::uint32_t display_mean(std::uint32_t sum, int count) {
+  const std::uint64_t r = tables().reciprocal[static_cast<std::size_t>(count)];
+  return static_cast<std::uint32_t>((sum * r + (1u << 17)) >> 18);
+}
+
 core::Rgb444 display_colour(const AccumEntry& entry, int col, int row, bool dither) {
   const Tables& t = tables();
-  const std::uint64_t r = t.reciprocal[entry.count];
   const int threshold = dither ? kBayer[static_cast<std::size_t>(row & 3)][static_cast<std::size_t>(col & 3)] : 8;
   int ch[3];
   for (std::size_t k = 0; k < 3; ++k) {
-    const std::uint64_t mean = (entry.sum[k] * r + (1u << 17)) >> 18;  // <= 511: sum <= count * 511
+    const std::uint32_t mean = display_mean(entry.sum[k], entry.count);  // <= 511 + 1 rounding: sum <= count * 511
     ch[k] = (t.gamma[mean < 511 ? mean : 511] + threshold) >> 4;
   }
   return core::Rgb444::from_channels(ch[0], ch[1], ch[2]);

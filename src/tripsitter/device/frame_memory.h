@@ -38,6 +38,10 @@ constexpr std::uint32_t sample_channel(std::int64_t light) {
   return static_cast<std::uint32_t>(v < 511 ? v : 511);
 }
 
+// A channel's mean as the display computes it, sum * round(2^18 / count) rounded, in the sample's 9 bits.
+// 1 <= count <= kMaxSamples, sum <= count * 511.
+std::uint32_t display_mean(std::uint32_t sum, int count);
+
 // The 4-bit colour of an entry with count >= 1 at pixel (col, row).
 core::Rgb444 display_colour(const AccumEntry& entry, int col, int row, bool dither);
 

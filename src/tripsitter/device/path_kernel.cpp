@@ -7,7 +7,7 @@ namespace tripsitter::device {
 PathSurface path_surface(const SurfaceWord& word) {
   PathSurface s;
   s.material = word.material;
-  for (std::size_t k = 0; k < 3; ++k) s.albedo[k] = static_cast<std::uint16_t>(word.albedo[k] + (word.albedo[k] >> 7));
+  for (std::size_t k = 0; k < 3; ++k) s.albedo[k] = word.albedo[k] * 257u + (word.albedo[k] >> 7);
   s.fuzz = word.fuzz;
   // The receiver refuses indices outside the supported range; scene memory written directly gets the nearest.
   const std::int64_t ior = std::clamp(word.ior, kPathIorMin, kPathIorMax);  // times 2^12

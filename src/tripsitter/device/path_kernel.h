@@ -23,7 +23,8 @@
 // one still bouncing after `depth` rays is black (the float path tracer's max_depth).
 //
 // Formats: unit vectors, cosines and reflectances times 2^14 (approx.h); the throughput and light per channel
-// times 2^16 (1.0 = 65536); albedo bytes a as (a + a/128) / 256, so 255 is exactly 1.
+// times 2^16 (1.0 = 65536); an albedo byte a as (257 a + a/128) / 2^16, so 255 is exactly 1 and every byte is
+// within 2^-16 of a / 255.
 #pragma once
 
 #include <algorithm>
@@ -60,7 +61,7 @@ struct PathRay {
 // eta entering and leaving (times 2^14) and Schlick's r0 = ((ior - 1)/(ior + 1))^2 (times 2^14).
 struct PathSurface {
   std::uint8_t material = link::kMaterialLambertian;
-  std::array<std::uint16_t, 3> albedo{};  // a + a/128: 0..256, times 2^-8
+  std::array<std::uint32_t, 3> albedo{};  // a * 257 + a/128: 0..65536, times 2^-16
   std::uint16_t fuzz = 0;                 // times 2^-16
   bool passes_straight = false;           // ior exactly 1
   std::int64_t eta_enter = 0, eta_leave = 0, r0 = 0;
@@ -101,7 +102,8 @@ struct PathCounters {
 
 // The far intersection of `ray` with sphere s, num = b + sqrt(D), when the ray is inside it: > 0 exactly when
 // the line meets the sphere ahead of the origin's far side (0 when D < 0).
-inline core::Int128 far_num(const FixedArith& arith, const core::KernelRay<core::Int128>& ray,
+template <class Arith>
+core::Int128 far_num(const Arith& arith, const core::KernelRay<core::Int128>& ray,
                             const core::KernelSphere<std::int64_t>& s) {
   using core::Int128;
   const core::Vec3<Int128> oc{Int128(s.center.x) - ray.origin.x, Int128(s.center.y) - ray.origin.y,
@@ -122,7 +124,8 @@ inline core::Int128 far_num(const FixedArith& arith, const core::KernelRay<core:
 
 // The closest hit of a path ray given the closest near hit over every sphere but `from` (core::closest_hit's
 // result, or the fast model's): `from`'s far side competes when the ray is inside it; ties go to the lower index.
-inline PathHit with_far_side(const FixedArith& arith, const PathRay& path, core::KernelHit<core::Int128> near,
+template <class Arith>
+PathHit with_far_side(const Arith& arith, const PathRay& path, core::KernelHit<core::Int128> near,
                              std::span<const core::KernelSphere<std::int64_t>> spheres) {
   PathHit hit{near.index, near.num, false};
   if (!path.into) return hit;
@@ -132,10 +135,24 @@ inline PathHit with_far_side(const FixedArith& arith, const PathRay& path, core:
   return hit;
 }
 
+// The components of v checked against the bound of `which`; v itself.
+template <class Arith>
+const approx::Unit3& checked(const Arith& arith, const approx::Unit3& v, core::Width which) {
+  for (int k = 0; k < 3; ++k) arith.check(v[k], which);
+  return v;
+}
+
+// approx::unit(v), its components checked (kUnitVector).
+template <class Arith>
+approx::Unit3 checked_unit(const Arith& arith, const core::Vec3<core::Int128>& v) {
+  return checked(arith, approx::unit(v), core::Width::kUnitVector);
+}
+
 // One sample of the pixel whose camera ray is d0. closest(path) returns the path ray's PathHit (the plain
-// search, or the fast model's). `depth` rays at most (1..).
-template <class Closest>
-PathSample trace_path_sample(const FixedArith& arith, const core::Vec3<core::Int128>& d0,
+// search, or the fast model's). `depth` rays at most (1..). Arith is FixedArith, or the fast model's with the same
+// square root in closed form (FastTracer).
+template <class Arith, class Closest>
+PathSample trace_path_sample(const Arith& arith, const core::Vec3<core::Int128>& d0,
                              std::span<const core::KernelSphere<std::int64_t>> spheres,
                              std::span<const PathSurface> surfaces, int depth, PathRng& rng, PathCounters& counters,
                              const Closest& closest) {
@@ -152,6 +169,7 @@ PathSample trace_path_sample(const FixedArith& arith, const core::Vec3<core::Int
     ++counters.draws;
     return rng.next();
   };
+  const auto sqrt = [&arith](core::Int128 x) { return arith.sqrt(x); };
   for (int rays = 1;; ++rays) {
     ++counters.rays;
     out.rays = rays;
@@ -160,12 +178,13 @@ PathSample trace_path_sample(const FixedArith& arith, const core::Vec3<core::Int
     if (hit.index < 0) {
       // The sky: the float path tracer's blend of white and blue by a = (1 + up.d^)/2, up = -y in view space.
       ++counters.sky;
-      const std::int64_t up = -approx::unit(d).y;
+      const std::int64_t up = -checked_unit(arith, d).y;
       const std::int64_t a = (kUnit + up + 1) >> 1;  // 0..2^14
       constexpr std::array<std::int64_t, 3> kBottom{65536, 65536, 65536};
       constexpr std::array<std::int64_t, 3> kTop{32768, 45875, 65536};
       for (std::size_t k = 0; k < 3; ++k) {
         const std::int64_t sky = kBottom[k] + round_shift((kTop[k] - kBottom[k]) * a, kUnitBits);
+        arith.check(throughput[k] * sky, core::Width::kLight);
         out.light[k] = round_shift(throughput[k] * sky, 16);
       }
       return out;
@@ -189,16 +208,16 @@ PathSample trace_path_sample(const FixedArith& arith, const core::Vec3<core::Int
       arith.check(m[k], core::Width::kHitNormal);
     }
     if (m.x == 0 && m.y == 0 && m.z == 0) m = {0, 0, -1};  // a radius-1 sphere seen head-on: the grid's centre
-    const Unit3 n = approx::unit(m);
+    const Unit3 n = checked_unit(arith, m);
     Unit3 next;
     PathRay bounced{{p, {}}, hit.index, false};
     switch (surface.material) {
       case link::kMaterialMetal: {
         ++counters.metal;
-        const Unit3 in = approx::unit(d);
+        const Unit3 in = checked_unit(arith, d);
         next = approx::reflect(in, n);
         if (surface.fuzz != 0) {
-          const Unit3 u = approx::random_unit(draw(), arith.sqrt_unit);
+          const Unit3 u = checked(arith, approx::random_unit(draw(), sqrt), core::Width::kUnitVector);
           for (int k = 0; k < 3; ++k) next[k] += round_shift(u[k] * surface.fuzz, 16);
         }
         if (core::dot(next, n) <= 0) {  // fuzz pushed it below the surface
@@ -216,13 +235,14 @@ PathSample trace_path_sample(const FixedArith& arith, const core::Vec3<core::Int
           break;
         }
         const Unit3 nf = front ? n : -n;
-        const Unit3 in = approx::unit(d);
+        const Unit3 in = checked_unit(arith, d);
         const std::int64_t cos = std::min(-approx::dot_unit(in, nf), kUnit);
         const std::int64_t eta = front ? surface.eta_enter : surface.eta_leave;
         const std::int64_t sin2 = kUnit * kUnit - cos * cos;  // times 2^28
         const bool total_internal = static_cast<Int128>(eta * eta) * sin2 > (Int128{1} << 56);
         const std::int64_t reflectance =
             surface.r0 + round_shift((kUnit - surface.r0) * approx::pow5(kUnit - std::max<std::int64_t>(cos, 0)), kUnitBits);
+        arith.check(reflectance, core::Width::kReflectance);
         const bool reflects = total_internal || static_cast<std::int64_t>(draw() >> 18) < reflectance;
         if (reflects) {
           next = approx::reflect(in, nf);
@@ -231,7 +251,9 @@ PathSample trace_path_sample(const FixedArith& arith, const core::Vec3<core::Int
           ++counters.refracted;
           Unit3 perp;
           for (int k = 0; k < 3; ++k) perp[k] = round_shift(eta * (in[k] + round_shift(cos * nf[k], kUnitBits)), kUnitBits);
+          checked(arith, perp, core::Width::kRefractPerp);
           const std::int64_t q = kUnit * kUnit - core::dot(perp, perp);
+          arith.check(q, core::Width::kRadicand);
           const auto along = static_cast<std::int64_t>(arith.sqrt(q < 0 ? -q : q));
           for (int k = 0; k < 3; ++k) next[k] = perp[k] - round_shift(along * nf[k], kUnitBits);
           bounced.into = front;  // refracted in, or out
@@ -240,7 +262,7 @@ PathSample trace_path_sample(const FixedArith& arith, const core::Vec3<core::Int
       }
       default: {
         ++counters.lambertian;
-        const Unit3 u = approx::random_unit(draw(), arith.sqrt_unit);
+        const Unit3 u = checked(arith, approx::random_unit(draw(), sqrt), core::Width::kUnitVector);
         next = n + u;
         if (core::dot(next, next) < (std::int64_t{1} << 16)) next = n;  // |n + u| < 2^-6: the normal itself
         break;
@@ -250,7 +272,11 @@ PathSample trace_path_sample(const FixedArith& arith, const core::Vec3<core::Int
       ++counters.absorbed;
       return out;
     }
-    for (std::size_t k = 0; k < 3; ++k) throughput[k] = (throughput[k] * surface.albedo[k] + 128) >> 8;
+    checked(arith, next, core::Width::kScattered);
+    for (std::size_t k = 0; k < 3; ++k) {
+      throughput[k] = (throughput[k] * surface.albedo[k] + (1 << 15)) >> 16;
+      arith.check(throughput[k], core::Width::kThroughput);
+    }
     bounced.ray.direction = {next.x, next.y, next.z};
     path = bounced;
     switch (surface.material) {
@@ -281,8 +307,8 @@ struct PathPixel {
 
 // Pixel (col, row) of a frame: its entry from frame memory (empty if of another epoch), spp more samples
 // unless that would pass kMaxSamples (a converged pixel traces nothing), and the colour shown.
-template <class Closest>
-PathPixel trace_path_pixel(const FixedArith& arith, int col, int row, const AccumEntry& stored,
+template <class Arith, class Closest>
+PathPixel trace_path_pixel(const Arith& arith, int col, int row, const AccumEntry& stored,
                            std::span<const core::KernelSphere<std::int64_t>> spheres, const PathFrame& frame,
                            PathCounters& counters, const Closest& closest) {
   PathPixel out;
@@ -295,7 +321,10 @@ PathPixel trace_path_pixel(const FixedArith& arith, int col, int row, const Accu
       const PathSample sample = trace_path_sample(arith, d0, spheres, frame.surfaces, frame.depth, rng, counters, closest);
       out.rays += sample.rays;
       out.bounces += sample.bounces;
-      for (std::size_t k = 0; k < 3; ++k) e.sum[k] += sample_channel(sample.light[k]);
+      for (std::size_t k = 0; k < 3; ++k) {
+        e.sum[k] += sample_channel(sample.light[k]);
+        arith.check(e.sum[k], core::Width::kAccumSum);
+      }
     }
     e.count = static_cast<std::uint8_t>(e.count + frame.spp);
   }

@@ -38,11 +38,15 @@ std::int64_t DevicePreset::path_occupancy(std::int64_t spheres, std::int64_t ray
                                   rays * std::max<std::int64_t>(spheres, 1) * costs.issue_interval +
                                       stalls * pass_latency + scatters);
   }
-  return costs.pixel_setup + rays * spheres * per_sphere_cycles(*this) + scatters + costs.shade + costs.accumulate;
+  return costs.pixel_setup + rays * spheres * per_sphere_cycles(*this) + scatters + costs.sky + costs.accumulate;
 }
 
 std::int64_t DevicePreset::path_drain_cycles() const {
-  return costs.pipelined ? drain_cycles() + costs.accumulate : 0;
+  // The last pass's hit known, then the longest way a path can end (the sky, or a scatter that absorbs), then
+  // the frame-memory read-modify-write and display.
+  if (!costs.pipelined) return 0;
+  const int ending = std::max({costs.sky, costs.scatter_lambertian, costs.scatter_metal, costs.scatter_dielectric});
+  return costs.pixel_setup + per_sphere_cycles(*this) + ending + costs.accumulate;
 }
 
 std::int64_t DevicePreset::drain_cycles() const {
@@ -68,7 +72,8 @@ std::optional<std::string> DevicePreset::validate() const {
   if (workers < 1 || workers > kLineWidth) return "workers must be 1 to 640";
   if (lead_cycles < 1 || lead_cycles > kLineCycles) return "lead cycles must be 1 to 3200";
   if (max_spheres < 1 || max_spheres > 1'000'000) return "scene memory must hold 1 to 1000000 spheres";
-  if (costs.scatter_lambertian < 0 || costs.scatter_metal < 0 || costs.scatter_dielectric < 0 || costs.accumulate < 0)
+  if (costs.scatter_lambertian < 0 || costs.scatter_metal < 0 || costs.scatter_dielectric < 0 || costs.sky < 0 ||
+      costs.accumulate < 0)
     return "the path costs must not be negative";
   if (path) {
     if (path->spp < 1 || path->spp > kMaxSamples) return "samples per pixel must be 1 to 255";

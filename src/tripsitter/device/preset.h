@@ -44,9 +44,10 @@ struct CycleCosts {
   int issue_interval = 1;  // pipelined only
   // The path preset (docs/device.md, "Cycle costs of the path preset"): a bounce from the closest hit known to
   // the next ray's direction, by material; and the frame-memory read-modify-write and display of a pixel.
-  int scatter_lambertian = 20;
-  int scatter_metal = 18;
-  int scatter_dielectric = 42;
+  int scatter_lambertian = 42;
+  int scatter_metal = 46;
+  int scatter_dielectric = 69;
+  int sky = 16;  // an escaping ray's direction normalised, the sky's blend, times the throughput
   int accumulate = 8;
 };
 

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -136,6 +138,102 @@ inline SceneMemory random_world(const DevicePreset& p, std::mt19937_64& rng) {
     s.albedo = {static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng())};
     m.surfaces.push_back(s);
   }
+  return m;
+}
+
+// The path preset's tests.
+
+// A sphere with its surface, in pixel units, for the path preset's worlds.
+struct PathBall {
+  std::array<double, 4> xyzr{};
+  std::uint8_t material = link::kMaterialLambertian;
+  std::array<std::uint8_t, 3> albedo{128, 128, 128};
+  std::uint16_t fuzz = 0;    // times 2^-16 on the device (the wire's fuzz * 65535)
+  std::uint16_t ior = 6144;  // u4.12: 1.5
+};
+
+// A v2 frame of `balls` in the preset's formats.
+inline std::vector<std::uint8_t> path_frame_of(const DevicePreset& preset, std::uint32_t sequence,
+                                               const std::vector<PathBall>& balls) {
+  link::World w;
+  w.sequence = sequence;
+  w.frac_bits = static_cast<std::uint8_t>(preset.frac_bits());
+  for (const PathBall& b : balls) {
+    link::WireSphere ws;
+    ws.x = static_cast<std::int32_t>(preset.x.quantize(b.xyzr[0]).raw);
+    ws.y = static_cast<std::int32_t>(preset.y.quantize(b.xyzr[1]).raw);
+    ws.z = static_cast<std::int32_t>(preset.z.quantize(b.xyzr[2]).raw);
+    ws.radius = static_cast<std::uint32_t>(std::max<std::int64_t>(1, preset.radius.quantize(b.xyzr[3]).raw));
+    ws.material = b.material;
+    ws.albedo = b.albedo;
+    ws.fuzz = b.fuzz;
+    ws.ior = b.ior;
+    w.spheres.push_back(ws);
+  }
+  return link::encode_v2_frame(w);
+}
+
+// The v2 frame that puts exactly `scene` (raw geometry and surface words, one surface per sphere) into scene memory.
+inline std::vector<std::uint8_t> frame_of_scene(const DevicePreset& preset, std::uint32_t sequence,
+                                                const SceneMemory& scene) {
+  link::World w;
+  w.sequence = sequence;
+  w.frac_bits = static_cast<std::uint8_t>(preset.frac_bits());
+  for (std::size_t i = 0; i < scene.geometry.size(); ++i) {
+    const auto& g = scene.geometry[i];
+    const SurfaceWord& s = scene.surfaces.at(i);
+    w.spheres.push_back({static_cast<std::int32_t>(g.center.x), static_cast<std::int32_t>(g.center.y),
+                         static_cast<std::int32_t>(g.center.z), static_cast<std::uint32_t>(g.radius), s.material,
+                         s.albedo, s.fuzz, s.ior});
+  }
+  return link::encode_v2_frame(w);
+}
+
+// A random surface of any material: albedos anywhere in 0..255 (often 255, the exact 1), metals with and
+// without fuzz (up to the wire's largest), dielectrics with indices anywhere in the path preset's 0.25..8 (often
+// near 1.5, sometimes exactly 1: straight through, and at both ends of the range).
+inline SurfaceWord random_path_surface(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  SurfaceWord s;
+  const double kind = unit(rng);
+  s.material = kind < 0.4 ? link::kMaterialLambertian : kind < 0.7 ? link::kMaterialMetal : link::kMaterialDielectric;
+  for (auto& a : s.albedo) a = unit(rng) < 0.25 ? 255 : static_cast<std::uint8_t>(rng());
+  s.fuzz = unit(rng) < 0.3 ? 0 : unit(rng) < 0.2 ? 65535 : static_cast<std::uint16_t>(rng());
+  const double ior = unit(rng);
+  s.ior = ior < 0.1   ? 4096
+          : ior < 0.15 ? kPathIorMin
+          : ior < 0.2  ? kPathIorMax
+          : ior < 0.6  ? static_cast<std::uint16_t>(5000 + rng() % 3000)
+                       : static_cast<std::uint16_t>(kPathIorMin + rng() % (kPathIorMax - kPathIorMin + 1));
+  return s;
+}
+
+// A random world for the path preset: random_world's geometry (in view, behind the camera, around it, tiny,
+// huge, at the formats' limits), at most `max_random` of it, then 2 to 5 spheres well in view (so that paths
+// bounce), now and then a sphere around the camera and a pair of overlapping spheres in view; a random surface
+// for every sphere (random_path_surface).
+inline SceneMemory random_path_world(const DevicePreset& p, std::mt19937_64& rng, std::size_t max_random) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  SceneMemory m = random_world(p, rng);
+  if (m.geometry.size() > max_random) m.geometry.resize(max_random);
+  const double scale = static_cast<double>(std::int64_t{1} << p.frac_bits());
+  const auto raw = [&](double v) { return static_cast<std::int64_t>(std::llround(v * scale)); };
+  for (int i = 2 + static_cast<int>(rng() % 4); i > 0; --i) {
+    const double z = 150 + 1000 * unit(rng);
+    m.geometry.push_back({{raw((unit(rng) * 1.6 - 0.8) * z), raw((unit(rng) * 1.2 - 0.6) * z), raw(z)},
+                          raw(20 + z / 2 * unit(rng))});
+  }
+  if (unit(rng) < 0.3)  // around the camera
+    m.geometry.push_back({{0, 0, raw(40 * unit(rng))}, raw(300 + 3000 * unit(rng))});
+  if (unit(rng) < 0.4) {  // two overlapping spheres in view
+    const double z = 300 + 600 * unit(rng), x = (unit(rng) - 0.5) * z, y = (unit(rng) - 0.5) * z * 0.6;
+    const double r = 40 + 100 * unit(rng);
+    m.geometry.push_back({{raw(x), raw(y), raw(z)}, raw(r)});
+    m.geometry.push_back({{raw(x + r * unit(rng)), raw(y + r * (unit(rng) - 0.5)), raw(z - r * unit(rng))},
+                          raw(r * (0.5 + unit(rng)))});
+  }
+  m.surfaces.clear();
+  for (std::size_t i = 0; i < m.geometry.size(); ++i) m.surfaces.push_back(random_path_surface(rng));
   return m;
 }
 

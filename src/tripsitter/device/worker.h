@@ -123,6 +123,14 @@ struct FixedArith {
       case core::Width::kDirNormal: return {46, 1};
       case core::Width::kReflected: return {72, 2};
       case core::Width::kTint: return {52, 0};
+      case core::Width::kUnitVector: return {15, 0};
+      case core::Width::kScattered: return {19, 0};
+      case core::Width::kRefractPerp: return {19, 0};
+      case core::Width::kRadicand: return {38, 0};
+      case core::Width::kReflectance: return {15, 0};
+      case core::Width::kThroughput: return {17, 0};
+      case core::Width::kLight: return {33, 0};
+      case core::Width::kAccumSum: return {17, 0};
     }
     return {0, 0};
   }

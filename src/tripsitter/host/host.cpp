@@ -51,6 +51,10 @@ link::WireSphere to_wire(const scene::Sphere& s, const link::SceneFormats& forma
   w.albedo = {unit_to_byte(s.material.albedo.x), unit_to_byte(s.material.albedo.y), unit_to_byte(s.material.albedo.z)};
   w.fuzz = to_u16(s.material.fuzz, link::kV2FuzzScale);
   w.ior = std::max<std::uint16_t>(to_u16(s.material.ior, link::kV2IorScale), 1);
+  if (w.material == link::kMaterialDielectric && (w.ior < formats.ior_min || w.ior > formats.ior_max)) {
+    w.ior = std::clamp(w.ior, formats.ior_min, formats.ior_max);
+    ++sat.iors;
+  }
   return w;
 }
 

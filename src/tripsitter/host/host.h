@@ -21,7 +21,8 @@ namespace tripsitter::host {
 struct Saturations {
   std::uint64_t coordinates = 0;  // centre coordinates clamped to the format's range
   std::uint64_t radii = 0;        // radii clamped (or, on v1, outside 2^0..2^63)
-  std::uint64_t total() const { return coordinates + radii; }
+  std::uint64_t iors = 0;         // dielectrics' indices of refraction clamped to the device's range
+  std::uint64_t total() const { return coordinates + radii + iors; }
 };
 
 // What one update produced.

@@ -81,6 +81,22 @@ TEST(Host, SaturationsAreCountedNotHidden) {
   EXPECT_EQ(h.total_saturations().coordinates, 2u);
 }
 
+TEST(Host, AnIndexOfRefractionBeyondTheDevicesRangeIsSaturatedAndCounted) {
+  scene::Scene s = *scene::builtin("demo");
+  s.spheres[0].material.type = scene::MaterialType::kDielectric;
+  s.spheres[0].material.ior = 12.0;
+  link::SceneFormats narrow = kWide;
+  narrow.ior_min = 1024;   // 0.25
+  narrow.ior_max = 32768;  // 8
+  Host h(s, narrow, link::WireVersion::kV2);
+  const ReadyWorld& w = h.update();
+  EXPECT_EQ(w.saturations.iors, 1u);
+  EXPECT_EQ(w.saturations.total(), 1u);
+  EXPECT_EQ(link::decode_v2_frame(w.bytes, 1).value().spheres[0].ior, 32768);
+  // The wire's own range takes it as it is.
+  EXPECT_EQ(Host(s, kWide, link::WireVersion::kV2).update().saturations.total(), 0u);
+}
+
 TEST(Host, V1SendsOneWordPerSphereWithPowerOfTwoRadii) {
   scene::Scene s = *scene::builtin("demo");
   s.spheres[0].radius = 2.2;  // 70.4 pixel units: nearest power of two in log scale is 64

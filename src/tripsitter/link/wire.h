@@ -21,6 +21,9 @@ inline std::optional<WireVersion> wire_by_name(std::string_view name) {
 struct SceneFormats {
   core::FixedFormat x, y, z, radius;
   std::uint32_t max_spheres = 1;
+  // The indices of refraction of dielectrics the device takes, in the v2 wire's u4.12 (the path preset's are
+  // narrower than the wire's).
+  std::uint16_t ior_min = 1, ior_max = 65535;
 };
 
 }  // namespace tripsitter::link

@@ -12,9 +12,14 @@ namespace {
 // View space has y down and the device's sky has up = -y, where Sky's up is +y. Mirroring the scene and the rays in
 // y maps one onto the other exactly: a mirror is an isometry, so every hit, normal and material (whose scattering
 // is the same in distribution under any isometry) behaves as in the unmirrored view, and Sky then applies unchanged.
+// The spheres are also scaled by 1 / kDeviceViewPixelsPerUnit (a similarity about the camera: the same image).
 std::vector<scene::Sphere> mirrored_in_y(std::span<const scene::Sphere> spheres) {
   std::vector<scene::Sphere> mirrored(spheres.begin(), spheres.end());
-  for (auto& s : mirrored) s.center.y = -s.center.y;
+  const double scale = 1.0 / kDeviceViewPixelsPerUnit;
+  for (auto& s : mirrored) {
+    s.center = {s.center.x * scale, -s.center.y * scale, s.center.z * scale};
+    s.radius *= scale;
+  }
   return mirrored;
 }
 

@@ -15,6 +15,13 @@ namespace tripsitter::render {
 // ray of pixel (col, row) on the 640 x 480 screen is exactly core::device_ray: origin 0, direction
 // (col - 320, row - 240, 320), no jitter, no lens. The light is the path tracer's Sky as a function of direction
 // with "up" being -y of view space: the device has no up vector on its wire, so its sky is fixed to the view.
+// The reference traces the view scaled down by this (it is the same image at any scale: every ray starts at the
+// camera, and directions, normals and the sky do not change), because the path tracer's kRayEpsilon (10^-3) is
+// meant for world units: at the device's own scale, a floor of radius 10^4 pixels 10^4 pixels away, a float hit
+// point is good to about 10^-3 and bounced rays meet the surface they leave again (black speckles). At 1/256 the
+// coordinates of a device's world stay below about 50.
+inline constexpr float kDeviceViewPixelsPerUnit = 256;
+
 struct DeviceViewSettings {
   int spp = 64;        // >= 1
   int max_depth = 4;   // rays per path, as PathSettings::max_depth and trace_path; >= 1
