@@ -68,6 +68,24 @@ void BM_NormalFastFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_NormalFastFrame)->Arg(1)->Arg(16)->Arg(64)->Arg(488)->Unit(benchmark::kMillisecond);
 
+// One frame of the path preset through the whole board (host -> link -> device -> VGA capture), random-N, the
+// device on one thread: the single-thread figure of `tripsitter bench`'s hw_path_fps_64. The camera orbits half a
+// degree back and forth, so that every frame is a new world's first and no pixel stops at 255 samples.
+void BM_BoardPathFrame(benchmark::State& state) {
+  board::BoardConfig config;
+  config.preset = device::path_preset();
+  config.device_threads = 1;
+  board::Board b(scene::random_spheres(static_cast<int>(state.range(0)), 1), config);
+  double step = 0.5;
+  for (auto _ : state) {
+    b.host().camera().orbit(step);
+    step = -step;
+    benchmark::DoNotOptimize(b.show());
+  }
+  state.SetItemsProcessed(state.iterations() * 640 * 480);
+}
+BENCHMARK(BM_BoardPathFrame)->Arg(64)->Unit(benchmark::kMillisecond);
+
 void BM_DecodeV2(benchmark::State& state) {
   host::Host h(scene::random_spheres(static_cast<int>(state.range(0)), 1), board::formats_of(device::wide_preset()),
                link::WireVersion::kV2);

@@ -1,4 +1,4 @@
-// tripsitter bench: the fixed benchmark suite (hw_fps_N, primary_mrays_N, path_msamples_field,
+// tripsitter bench: the fixed benchmark suite (hw_fps_N, hw_path_fps_64, primary_mrays_N, path_msamples_field,
 // path_msamples_field_brute_force, path_fps_field),
 // or one scene file in one mode. Every figure is the median of several timed runs, on one thread and on all.
 #include <algorithm>
@@ -42,6 +42,7 @@ struct BenchOptions {
   std::string scene;     // --scene: one file (or built-in name) instead of the suite
   std::string mode = "normal";
   int threads = 0;       // --threads: only this count (0: 1 and all)
+  std::string preset = "wide";  // --scene with --mode hw
 };
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
@@ -169,13 +170,27 @@ std::vector<int> thread_counts(const BenchOptions& o) {
   return all > 1 ? std::vector<int>{1, all} : std::vector<int>{1};
 }
 
-// hw: frames through host -> link -> device -> VGA capture.
-void bench_hw(const BenchOptions& o, Report& r, const std::string& figure, const scene::Scene& scene) {
+// hw: frames through host -> link -> device -> VGA capture. A path-tracing preset would stop tracing a still world's
+// pixels once frame memory holds 255 samples each, so there the camera orbits 0.5 degrees back and forth between
+// frames: every frame is the first of a world of new content, each pixel traced at the preset's samples per frame
+// (what a moving camera costs; a still one costs the same until its pixels are full).
+void bench_hw(const BenchOptions& o, Report& r, const std::string& figure, const scene::Scene& scene,
+              const device::DevicePreset& preset = device::wide_preset()) {
   for (int t : thread_counts(o)) {
     modes::SourceConfig config;
+    config.preset = preset;
     config.device_threads = t;
     const std::unique_ptr<modes::FrameSource> board = modes::make_frame_source(scene, config);
-    r.add(figure, t, median_rate(o, [&] { board->draw(); return 1.0; }), "frames/s");
+    double step = 0.5;
+    r.add(figure, t, median_rate(o, [&] {
+            if (preset.path) {
+              board->steer().orbit(step);
+              step = -step;
+            }
+            board->draw();
+            return 1.0;
+          }),
+          "frames/s");
   }
 }
 
@@ -261,6 +276,9 @@ void bench_path_interactive(const BenchOptions& o, Report& r, const std::string&
 int run_suite(const BenchOptions& o) {
   Report r(o);
   for (int n : {1, 16, 64, 256}) bench_hw(o, r, "hw_fps_" + std::to_string(n), scene::random_spheres(n, 1));
+  // The path preset on hw_fps_64's world (lambertian, fuzzed metal and dielectric spheres), 1 sample per pixel per
+  // frame, 4 rays per path.
+  bench_hw(o, r, "hw_path_fps_64", scene::random_spheres(64, 1), device::path_preset());
   const scene::Scene field = *scene::builtin("field");
   for (int n : {1, 16, 488, 10000, 1000000}) {
     const scene::Scene sc = n == 488 ? field : scene::random_spheres(n, 1);
@@ -283,11 +301,14 @@ int run_scene(const BenchOptions& o, modes::Mode mode) {
   auto start = Clock::now();
   const scene::Scene sc = load_scene(o.scene);
   const double load = seconds_since(start);
+  const device::DevicePreset preset = load_preset(o.preset, 0);  // an unknown name fails before anything is printed
   Report r(o);
   r.note("scene", {{"name", o.scene}, {"spheres", sc.spheres.size()}, {"mode", std::string(modes::mode_name(mode))}, {"load_seconds", load}});
   if (!o.json) std::printf("scene %s: %zu spheres, loaded in %.3f s\n", o.scene.c_str(), sc.spheres.size(), load);
   if (mode == modes::Mode::kHw) {
-    bench_hw(o, r, "hw_fps", sc);
+    if (preset.path) r.note("preset", {{"name", preset.name}, {"spp", preset.path->spp}, {"depth", preset.path->depth}});
+    else r.note("preset", {{"name", preset.name}});
+    bench_hw(o, r, "hw_fps", sc, preset);
   } else {
     start = Clock::now();
     const render::PathScene scene(sc.spheres);
@@ -308,7 +329,8 @@ void add_bench_command(CLI::App& app, Action& run) {
   CLI::App* cmd = app.add_subcommand(
       "bench",
       "Measures speed. Without --scene, the fixed suite: hw_fps_N (device model, host -> link -> device -> VGA, "
-      "N = 1, 16, 64, 256 spheres), primary_mrays_N (one primary ray per pixel, normal shading, 640x480, N = 1, 16, "
+      "N = 1, 16, 64, 256 spheres), hw_path_fps_64 (the same with the path preset: random-64's lambertian, metal and "
+      "dielectric spheres path-traced on the device, 1 sample per pixel per frame, 4 rays per path), primary_mrays_N (one primary ray per pixel, normal shading, 640x480, N = 1, 16, "
       "488 (field), 10000, 1000000; compared with Embree where built in), path_msamples_field (path tracer, field, "
       "640x360, depth 50; compared with the same path tracer over Embree's hits where built in), "
       "path_msamples_field_brute_force (the same path tracer testing every sphere for every ray, 1 thread only) and "
@@ -326,11 +348,19 @@ void add_bench_command(CLI::App& app, Action& run) {
                   "path (path tracer at the scene's size and depth, Msamples/s, with the path tracer over Embree)")
       ->capture_default_str();
   cmd->add_option("--threads", o->threads, "Only this many threads (default: 1 and all)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--preset", o->preset,
+                  "With --scene and --mode hw: the device preset (" + join(device::preset_names()) +
+                      "); with path, 1 sample per pixel per frame and the camera orbiting 0.5 degrees back and forth, "
+                      "so that no pixel stops at 255 samples")
+      ->capture_default_str();
   cmd->callback([o, cmd, &run] {
     const bool mode_given = cmd->count("--mode") > 0;
-    run = [o, mode_given] {
+    const bool preset_given = cmd->count("--preset") > 0;
+    run = [o, mode_given, preset_given] {
       const modes::Mode mode = parse_mode(o->mode);
       if (o->scene.empty() && mode_given) throw InputError("--mode needs --scene FILE");
+      if (preset_given && (o->scene.empty() || mode != modes::Mode::kHw))
+        throw InputError("--preset needs --scene FILE and --mode hw");
       return o->scene.empty() ? run_suite(*o) : run_scene(*o, mode);
     };
   });

@@ -1,5 +1,6 @@
 // The command line as a user meets it: exit codes, messages, files written or not.
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -211,6 +212,90 @@ TEST_F(Cli, MalformedSceneFilesAreRejectedWithAPlaceAndNoOutput) {
   }
 }
 
+// The path-tracing device against the float path tracer of its own rays: the text, and the JSON object.
+TEST_F(Cli, PathPresetComparesFrameMemoryWithTheFloatPathTracer) {
+  Result r = run("render --mode hw --preset path --scene cluster --spp 2 --depth 3 --accumulate 2 --compare "
+                 "--reference-spp 16 --threads 2 --quiet --out " + path("p.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("vs float path tracer of the device's rays (same sky, 3 rays per path, 16 samples per pixel, "
+                       "seed 1):"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("mean relative bias "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("relative MSE "), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("device: 4 samples per pixel accumulated in frame memory over 2 frames"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(path("p.png")));
+
+  r = run("render --mode hw --preset path --scene cluster --compare --json --reference-spp 16 --threads 2 --quiet --out " +
+          path("q.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  for (const char* key : {"mean_relative_bias", "relmse", "device_spp", "reference_spp", "depth", "late_pixels",
+                          "pixels_compared", "pixels_without_samples"})
+    EXPECT_TRUE(doc.contains(key)) << key << "\n" << r.out;
+  EXPECT_EQ(doc["device_spp"], 1);
+  EXPECT_EQ(doc["reference_spp"], 16);
+  EXPECT_EQ(doc["depth"], 4);
+  EXPECT_EQ(doc["pixels_compared"].get<int>() + doc["pixels_without_samples"].get<int>(), 640 * 480);
+  EXPECT_LT(std::abs(doc["mean_relative_bias"].get<double>()), 0.02) << r.out;
+  int parts = 0;
+  for (const char* part : {"sky", "lambertian", "metal", "dielectric"}) parts += doc["by_first_hit"][part]["pixels"].get<int>();
+  EXPECT_EQ(parts, doc["pixels_compared"].get<int>()) << r.out;
+
+  // Presets that trace one ray per pixel: the same figures as the text, as JSON.
+  r = run("render --compare --json --out " + path("w.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto wide = nlohmann::json::parse(r.out);
+  EXPECT_EQ(wide["differing"], 0) << r.out;
+  EXPECT_EQ(wide["pixels"], 640 * 480) << r.out;
+}
+
+TEST_F(Cli, CompareJsonAndAccumulateMisusedExitTwo) {
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases = {
+      {"render --json", "--json"},
+      {"render --mode hw --preset path --json", "--json"},
+      {"render --compare --reference-spp 64", "--reference-spp"},
+      {"render --mode hw --preset path --reference-spp 64", "--reference-spp"},
+      {"render --accumulate 4", "--accumulate"},
+      {"render --mode path --accumulate 4", "--accumulate"},
+      {"render --mode hw --preset path --wire v1 --accumulate 4", "--accumulate"},
+      {"render --mode hw --preset path --accumulate 4 --frames 2 --out " + path("f_%d.png"), "--accumulate"},
+      {"render --mode hw --preset path --spp 256", "samples per pixel must be 1 to 255"},
+      {"render --mode hw --preset path --depth 17", "path depth must be 1 to 16"},
+      {"run --mode normal --depth 3", "--depth"},
+      {"run --mode path --spp 3", "--spp"},
+      {"run --spp 3", "--spp"},  // the wide preset traces one ray per pixel
+      {"device --listen 127.0.0.1:0 --headless --out-dir " + path("d") + " --spp 2", "--spp"},
+      {"device --listen 127.0.0.1:0 --headless --out-dir " + path("d") + " --preset path --spp 0", "--spp"},
+      {"bench --preset path", "--preset"},
+      {"bench --scene demo --mode normal --preset path", "--preset"},
+      {"bench --scene demo --mode hw --preset nope", "unknown preset"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_EQ(r.out, "") << c.args;
+  }
+}
+
+TEST_F(Cli, HelpTellsTheTruthAboutThePathPreset) {
+  const Result render = run("render --help");
+  for (const char* text : {"--preset path: samples per pixel the device adds to frame memory each frame",
+                           "rays per path on the device, 1..16 (default 4)", "--reference-spp", "--accumulate",
+                           "mean_relative_bias", "pixels late in every frame have none"})
+    EXPECT_NE(render.out.find(text), std::string::npos) << text;
+  const Result run_help = run("run --help");
+  for (const char* text : {"--spp", "--depth", "accumulates samples while the camera is still"})
+    EXPECT_NE(run_help.out.find(text), std::string::npos) << text;
+  const Result device = run("device --help");
+  for (const char* text : {"--spp", "--depth", "--preset path"})
+    EXPECT_NE(device.out.find(text), std::string::npos) << text;
+  const Result bench = run("bench --help");
+  EXPECT_NE(bench.out.find("hw_path_fps_64"), std::string::npos);
+}
+
 // One scene measured in each mode: the JSON has the machine, the timings apart and the figure on the threads asked.
 TEST_F(Cli, BenchMeasuresOneSceneAsJson) {
   for (const char* mode : {"hw", "normal", "path"}) {
@@ -228,7 +313,15 @@ TEST_F(Cli, BenchMeasuresOneSceneAsJson) {
       // Where Embree is built in, primary rays and the path tracer are measured over it too.
       EXPECT_EQ(doc[figure].contains("embree_threads_1"), !doc["machine"]["embree"].is_null()) << r.out;
     }
-  }  // A scene that does not load: its error alone, nothing on stdout.
+  }
+  // hw with the path preset.
+  const Result path_hw = run("bench --scene demo --mode hw --preset path --threads 1 --seconds 0 --runs 1 --json");
+  ASSERT_EQ(path_hw.exit_code, 0) << path_hw.err;
+  const auto doc = nlohmann::json::parse(path_hw.out);
+  EXPECT_EQ(doc["preset"]["name"], "path") << path_hw.out;
+  EXPECT_EQ(doc["preset"]["spp"], 1) << path_hw.out;
+  EXPECT_GT(doc["hw_fps"]["threads_1"].get<double>(), 0.0) << path_hw.out;
+  // A scene that does not load: its error alone, nothing on stdout.
   const Result bad = run("bench --scene " + path("missing.json") + " --mode hw");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_EQ(bad.out, "");

@@ -22,6 +22,8 @@ struct DeviceOptions {
   std::string out_dir;
   std::string preset = "wide";
   int workers = 0;
+  int spp = 0;    // path-tracing preset: 0 not given
+  int depth = 0;
   std::string wire = "v2";
   std::uint64_t frames = 0;
   int scale = 1;
@@ -47,6 +49,9 @@ class WindowFrameSink : public FrameSink {
       lines.push_back("frame " + std::to_string(info.frame));
       lines.push_back(info.stats.has_world ? "world " + std::to_string(info.stats.sequence) : "no world yet");
       lines.push_back("late lines " + std::to_string(info.stats.late_lines));
+      // A path-tracing device accumulates while the host sends worlds of the same content.
+      if (info.stats.samples_per_pixel > 0)
+        lines.push_back(std::to_string(info.stats.samples_per_pixel) + " samples per pixel");
     }
     window_.present(core::to_rgb8(image), ++serial_, lines);
     return true;
@@ -94,7 +99,7 @@ int run_device(const DeviceOptions& o) {
   if (o.headless && o.out_dir.empty()) throw InputError("--headless needs --out-dir DIR, where the frames go");
   if (!o.headless && !o.out_dir.empty()) throw InputError("--out-dir goes with --headless (the window shows the frames)");
   const link::WireVersion wire = parse_wire(o.wire);
-  const device::DevicePreset preset = load_preset(o.preset, o.workers);
+  const device::DevicePreset preset = load_preset(o.preset, o.workers, -1, o.spp, o.depth);
   auto address = transport::parse_stream_address(o.listen);
   if (!address) throw InputError("--listen: " + address.error().message);
   if (o.headless) {
@@ -129,8 +134,11 @@ int run_device(const DeviceOptions& o) {
   if (!port) throw InputError(port.error().message);
   install_signal_handlers();
   std::cerr << "listening on " << port.value().address().to_string() << std::endl;
-  std::cerr << "device: preset " << preset.name << ", wire " << o.wire << ", " << 1.0 / kVgaFrameSeconds
-            << " frames/s; "
+  std::cerr << "device: preset " << preset.name;
+  if (preset.path)
+    std::cerr << " (" << preset.path->spp << " samples per pixel per frame, " << preset.path->depth
+              << " rays per path, accumulated while the world's content stays the same)";
+  std::cerr << ", wire " << o.wire << ", " << 1.0 / kVgaFrameSeconds << " frames/s; "
             << (o.headless ? "writing each frame that shows a new world to " +
                                  (std::filesystem::path(o.out_dir) / "frame_NNNNNN.png").string()
                            : std::string("showing the frames in a window"))
@@ -172,7 +180,11 @@ void add_device_command(CLI::App& app, Action& run) {
       "Listens for one host at a time and draws frames at the VGA rate (59.5 frames/s) in real time. A host\n"
       "that goes away leaves its last good world on screen; a second host while one is served is refused (it\n"
       "is told the device is busy). Stops cleanly (exit 0) on SIGINT or SIGTERM, or after --frames. The\n"
-      "protocol: docs/link_format.md, \"Over a byte stream\".");
+      "protocol: docs/link_format.md, \"Over a byte stream\".\n"
+      "With --preset path the device path-traces v2 worlds and accumulates them in frame memory while the\n"
+      "worlds the host sends keep the same content (a host sends its view every tick, so a still camera\n"
+      "refines); a world of other content starts over. Headless, each frame that shows a new world is\n"
+      "written: while a host with a still camera runs (a script's 'wait'), the files show the samples growing.");
   cmd->add_option("--listen", o->listen, "Address to listen on, HOST:PORT (port 0: any free port; the port is "
                                          "printed on stderr as 'listening on HOST:PORT')")
       ->required();
@@ -183,6 +195,11 @@ void add_device_command(CLI::App& app, Action& run) {
   cmd->add_option("--preset", o->preset, "Device preset (" + join(device::preset_names()) + ")")->capture_default_str();
   cmd->add_option("--workers", o->workers, "Number of device workers, 1..640 (default: the preset's)")
       ->check(CLI::Range(1, 640));
+  cmd->add_option("--spp", o->spp,
+                  "--preset path: samples per pixel added to frame memory each frame, 1..255 (default 1; a pixel "
+                  "stops at 255)")
+      ->check(CLI::Range(1, 255));
+  cmd->add_option("--depth", o->depth, "--preset path: rays per path, 1..16 (default 4)")->check(CLI::Range(1, 16));
   cmd->add_option("--wire", o->wire, "Link protocol the host speaks: v1 or v2")->capture_default_str();
   cmd->add_option("--frames", o->frames, "Stop after this many frames (default: run until SIGINT or SIGTERM)");
   cmd->add_option("--scale", o->scale, "Window size as a multiple of 640x480 (without --headless)")

@@ -1,4 +1,5 @@
 // tripsitter render: one frame as the monitor shows it.
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdlib>
@@ -10,14 +11,18 @@
 #include <optional>
 #include <system_error>
 
+#include <nlohmann/json.hpp>
+
 #include <tripsitter/board/capture.h>
 #include <tripsitter/core/progress.h>
 #include <tripsitter/core/screen.h>
 #include <tripsitter/device/device.h>
+#include <tripsitter/device/resources.h>
 #include <tripsitter/display/monitor.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/display/vcd.h>
 #include <tripsitter/modes/animation.h>
+#include <tripsitter/modes/device_compare.h>
 #include <tripsitter/scene/builtin.h>
 
 #include "commands.h"
@@ -69,11 +74,96 @@ void keep(display::VcdFile* vcd, const std::string& path) {
   std::cerr << "wrote " << path << " (" << kept.value() << " pixel clocks)\n";
 }
 
-void report(const modes::Frame& f) {
-  std::cerr << "device: " << f.device.late_pixels << " late pixels on " << f.device.late_lines << " lines\n"
-            << "link: " << f.link_bytes << " bytes, " << f.link_seconds * 1e3 << " ms at the SPI clock\n"
+// What a path frame's pixels cost the hardware (device/resources.h): operations per pixel, DSP slices, frame memory.
+void report_resources(const modes::Frame& f, const device::DevicePreset& preset) {
+  const auto spheres = static_cast<std::int64_t>(f.scene_memory != nullptr ? f.scene_memory->geometry.size() : 0);
+  const device::Operations ops = device::path_operations_per_pixel(
+      preset, f.device.path, spheres, std::uint64_t{core::kScreenWidth} * core::kScreenHeight);
+  const device::Resources r = device::resources(preset);
+  std::fprintf(stderr,
+               "device: per pixel of the last frame %.1f multiplies, %.1f additions, %.2f square roots, %.2f divisions, "
+               "%.2f random draws\n",
+               ops.total_multiplies(), ops.additions, ops.square_roots, ops.divisions, ops.random_draws);
+  std::fprintf(stderr,
+               "device: %d DSP48E1 slices per worker and %d shared: %d workers fit the XC7A100T's %d (this run has %d); "
+               "frame memory %.1f Mbit (%s)\n",
+               r.dsp_per_worker, r.dsp_shared, r.workers_fitting, device::kBoardDsp, preset.workers,
+               static_cast<double>(r.frame_memory_bits) / 1e6,
+               r.frame_memory_in_bram ? "fits the block RAM" : "external SRAM: more than the 4.9 Mbit of block RAM");
+}
+
+void report(const modes::Frame& f, int frames, const device::DevicePreset& preset) {
+  std::cerr << "device: " << f.device.late_pixels << " late pixels on " << f.device.late_lines << " lines\n";
+  if (f.frame_memory != nullptr && f.device.has_world && f.samples > 0) {
+    std::cerr << "device: " << f.samples << " samples per pixel accumulated in frame memory over " << frames
+              << (frames == 1 ? " frame" : " frames") << " (by pixels on time in every frame), " << f.device.rays
+              << " rays in the last\n";
+    report_resources(f, preset);
+  }
+  std::cerr << "link: " << f.link_bytes << " bytes, " << f.link_seconds * 1e3 << " ms at the SPI clock\n"
             << "host: " << f.saturations.total() << " saturated values\n";
   if (f.spheres_dropped > 0) std::cerr << "host: " << f.spheres_dropped << " spheres beyond scene memory were not sent\n";
+}
+
+// Whether hw mode path-traces with this preset and wire (v1 words are normal-shaded on any preset).
+bool path_traced(const device::DevicePreset& preset, link::WireVersion wire) {
+  return preset.path.has_value() && wire != link::WireVersion::kV1;
+}
+
+// --compare of a path-tracing preset: frame memory's linear mean against the float path tracer of the device's
+// rays, over the pixels with samples.
+void compare_path(const RenderOptions& o, const modes::SourceConfig& config, const modes::Frame& frame, int frames) {
+  modes::PathComparisonSettings settings;
+  settings.reference_spp = o.reference_spp > 0 ? o.reference_spp : modes::default_reference_spp(frame.samples);
+  settings.seed = o.seed;
+  settings.threads = o.threads;
+  const auto row_samples = static_cast<std::uint64_t>(core::kScreenWidth) * static_cast<std::uint64_t>(settings.reference_spp);
+  core::ProgressBar bar("reference", row_samples * core::kScreenHeight, "samples", !o.quiet, std::cerr);
+  settings.on_row = [&](int) { bar.add(row_samples); };
+  const modes::PathComparison c = modes::compare_device_path(frame, config.preset, settings);
+  bar.finish();
+  // By what the camera ray meets first: the sky, or a sphere of each material.
+  std::vector<std::pair<std::string, modes::PartComparison>> parts{{"sky", c.sky}};
+  for (auto type : {scene::MaterialType::kLambertian, scene::MaterialType::kMetal, scene::MaterialType::kDielectric})
+    parts.emplace_back(scene::material_name(type), c.material[static_cast<std::size_t>(type)]);
+  if (o.json) {
+    nlohmann::json doc = {{"scene", o.scene},
+                          {"preset", config.preset.name},
+                          {"mean_relative_bias", c.figures.mean_relative_bias},
+                          {"relmse", c.figures.relmse},
+                          {"device_spp", c.device_spp},
+                          {"device_spp_min", c.min_spp},
+                          {"device_spp_max", c.max_spp},
+                          {"reference_spp", c.reference_spp},
+                          {"depth", c.depth},
+                          {"seed", o.seed},
+                          {"frames", frames},
+                          {"spheres", c.spheres},
+                          {"pixels", c.pixels},
+                          {"pixels_compared", c.pixels_compared},
+                          {"pixels_without_samples", c.pixels_without_samples},
+                          {"late_pixels", c.late_pixels},
+                          {"late_lines", c.late_lines}};
+    for (const auto& [name, part] : parts)
+      doc["by_first_hit"][name] = {{"pixels", part.pixels},
+                                   {"mean_relative_bias", part.figures.mean_relative_bias},
+                                   {"relmse", part.figures.relmse}};
+    std::printf("%s\n", doc.dump(2).c_str());
+    return;
+  }
+  std::printf("vs float path tracer of the device's rays (same sky, %d rays per path, %d samples per pixel, seed %llu):\n"
+              "  mean relative bias %+.4f (%+.2f%%), relative MSE %.5f\n"
+              "  over %zu of %zu pixels, each with %d to %d samples (%d per pixel on time in every frame); "
+              "%zu pixels without samples left out\n",
+              c.depth, c.reference_spp, static_cast<unsigned long long>(o.seed), c.figures.mean_relative_bias,
+              100 * c.figures.mean_relative_bias, c.figures.relmse, c.pixels_compared, c.pixels, c.min_spp, c.max_spp,
+              c.device_spp, c.pixels_without_samples);
+  std::printf("  by what the camera ray meets first:\n");
+  for (const auto& [name, part] : parts) {
+    if (part.pixels == 0) continue;
+    std::printf("    %-10s %7zu pixels: mean relative bias %+.4f (%+.2f%%), relative MSE %.5f\n", name.c_str(),
+                part.pixels, part.figures.mean_relative_bias, 100 * part.figures.mean_relative_bias, part.figures.relmse);
+  }
 }
 
 // Samples of a whole image.
@@ -161,17 +251,35 @@ int run_render(const RenderOptions& o) {
   modes::SourceConfig config = source_config(o, mode, scene);
   if (vcd) config.probe = [&vcd](const device::VgaSample& s) { vcd->sample(s); };
   const std::unique_ptr<modes::FrameSource> source = modes::make_frame_source(scene, config);
-  const modes::Frame& frame = source->draw();
-  if (mode == modes::Mode::kHw) report(frame);
-  if (o.compare) {
+  // --accumulate N: the still world N times; a path-tracing device adds each frame's samples to frame memory.
+  const int frames = std::max(1, o.accumulate);
+  const modes::Frame* shown = &source->draw();
+  for (int i = 1; i < frames; ++i) shown = &source->draw();
+  const modes::Frame& frame = *shown;
+  if (mode == modes::Mode::kHw) report(frame, frames, config.preset);
+  if (o.compare && path_traced(config.preset, config.wire)) {
+    compare_path(o, config, frame, frames);
+  } else if (o.compare) {
     // The float reference of the same world from the same camera: normal mode's frame.
     modes::SourceConfig reference = config;
     reference.mode = modes::Mode::kNormal;
     reference.probe = {};
     const core::ImageDiff d = core::diff(frame.vga, modes::make_frame_source(scene, reference)->draw().vga);
-    std::printf("vs float reference: %zu of %zu pixels differ (%.3f%%), %zu by more than one level, at most %d levels\n",
-                d.differing, d.pixels, 100.0 * static_cast<double>(d.differing) / static_cast<double>(d.pixels),
-                d.over_one_level, d.max_level_difference);
+    if (o.json) {
+      const nlohmann::json doc = {{"scene", o.scene},
+                                  {"preset", config.preset.name},
+                                  {"pixels", d.pixels},
+                                  {"differing", d.differing},
+                                  {"over_one_level", d.over_one_level},
+                                  {"max_level_difference", d.max_level_difference},
+                                  {"late_pixels", frame.device.late_pixels},
+                                  {"late_lines", frame.device.late_lines}};
+      std::printf("%s\n", doc.dump(2).c_str());
+    } else {
+      std::printf("vs float reference: %zu of %zu pixels differ (%.3f%%), %zu by more than one level, at most %d levels\n",
+                  d.differing, d.pixels, 100.0 * static_cast<double>(d.differing) / static_cast<double>(d.pixels),
+                  d.over_one_level, d.max_level_difference);
+    }
   }
   write_image(o.out, frame);
   keep(vcd.get(), o.vcd);
@@ -184,8 +292,10 @@ void check_options(const RenderOptions& o, modes::Mode mode) {
   using modes::Mode;
   if (mode == Mode::kNormal && (o.spp != 0 || o.depth != 0))
     throw InputError("--spp and --depth need --mode path, or --mode hw with --preset path (normal traces one ray per pixel)");
-  parse_wire(o.wire);
-  load_preset(o.preset, o.workers, o.bounces, mode == Mode::kHw ? o.spp : 0, mode == Mode::kHw ? o.depth : 0);
+  const link::WireVersion wire = parse_wire(o.wire);
+  const device::DevicePreset preset =
+      load_preset(o.preset, o.workers, o.bounces, mode == Mode::kHw ? o.spp : 0, mode == Mode::kHw ? o.depth : 0);
+  const bool traced = mode == Mode::kHw && path_traced(preset, wire);
   if (mode == Mode::kHw && ((o.width != 0 && o.width != 640) || (o.height != 0 && o.height != 480)))
     throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal or path");
   if (mode != Mode::kHw && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float renderers have no VGA signal)");
@@ -195,6 +305,15 @@ void check_options(const RenderOptions& o, modes::Mode mode) {
   if (o.frames == 0 && (o.orbit != 0 || !o.video.empty())) throw InputError("--orbit and --video need --frames N");
   if (o.frames > 0 && (!o.vcd.empty() || !o.link_input.empty() || o.compare))
     throw InputError("--frames renders an animation: --vcd, --link-input and --compare are for one frame");
+  if (o.json && !o.compare) throw InputError("--json prints --compare's figures: it needs --compare");
+  if (o.reference_spp != 0 && !(o.compare && traced))
+    throw InputError("--reference-spp sets the float path tracer --compare runs for a path-tracing device: it needs "
+                     "--compare with --mode hw --preset path (and --wire v2)");
+  if (o.accumulate != 0 && !traced)
+    throw InputError("--accumulate needs --mode hw with a path-tracing preset (--preset path) and --wire v2: only "
+                     "its frame memory accumulates the frames of a still world");
+  if (o.accumulate != 0 && (o.frames > 0 || !o.link_input.empty()))
+    throw InputError("--accumulate shows one still world for several frames: not with --frames or --link-input");
   if (o.frames > 0) check_pattern(o.out);
 }
 
@@ -311,13 +430,21 @@ void add_render_command(CLI::App& app, Action& run) {
       ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
   cmd->add_option("--spi-hz", o->spi_hz, "SPI clock in Hz, for the link time report")
       ->capture_default_str()->check(CLI::Range(std::int64_t{1}, std::int64_t{1'000'000'000'000}));
-  cmd->add_option("--spp", o->spp, "path only: samples per pixel (default: the scene's render.spp)")
+  cmd->add_option("--spp", o->spp,
+                  "--mode path: samples per pixel (default: the scene's render.spp);\n"
+                  "--mode hw --preset path: samples per pixel the device adds to frame memory each frame, 1..255\n"
+                  "(default 1); a pixel late in a frame gets none that frame, and one stops at 255")
       ->check(CLI::Range(1, scene::kMaxSpp));
-  cmd->add_option("--depth", o->depth, "path only: most bounces along one path (default: the scene's render.max_depth)")
+  cmd->add_option("--depth", o->depth,
+                  "--mode path: most bounces along one path (default: the scene's render.max_depth);\n"
+                  "--mode hw --preset path: rays per path on the device, 1..16 (default 4)")
       ->check(CLI::Range(1, scene::kMaxDepth));
-  cmd->add_option("--seed", o->seed, "path only: random seed; the same seed gives the same image on any thread count")
+  cmd->add_option("--seed", o->seed,
+                  "--mode path: random seed; the same seed gives the same image on any thread count. With --compare and "
+                  "--preset path: the float reference's seed (the device's own random numbers do not take one)")
       ->capture_default_str();
-  cmd->add_option("--threads", o->threads, "normal and path modes: worker threads (default: all)")
+  cmd->add_option("--threads", o->threads,
+                  "normal and path modes, and --compare's float path tracer: worker threads (default: all)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--quiet", o->quiet, "No progress bar or summary on stderr");
   cmd->add_option("--frames", o->frames,
@@ -329,7 +456,25 @@ void add_render_command(CLI::App& app, Action& run) {
                   "With --frames: also pipe the frames to ffmpeg as this video file (30 frames/s); without ffmpeg, "
                   "says so and writes the PNGs only");
   cmd->add_flag("--compare", o->compare,
-               "hw only: also render the same view-space world with the float reference and print how the two differ");
+               "hw only: also render the same view-space world in float and print how the two differ (stdout).\n"
+               "Presets that trace one ray per pixel: against the float reference of the device's shading, pixels\n"
+               "and 4-bit levels that differ. --preset path: frame memory's accumulated linear mean (not the\n"
+               "4-bit picture) against the float path tracer tracing the device's own rays from its scene memory\n"
+               "(same sky, same rays per path, --reference-spp samples); prints the mean relative bias and the\n"
+               "relative MSE over the pixels with samples (pixels late in every frame have none: left out, counted),\n"
+               "and the same by what each pixel's camera ray meets first: sky, lambertian, metal, dielectric");
+  cmd->add_flag("--json", o->json,
+                "With --compare: print the figures as one JSON object on stdout instead (--preset path: keys\n"
+                "mean_relative_bias, relmse, device_spp, reference_spp, depth, late_pixels, pixels_without_samples,\n"
+                "by_first_hit, ...; other presets: pixels, differing, over_one_level, max_level_difference, ...)");
+  cmd->add_option("--reference-spp", o->reference_spp,
+                  "With --compare and --preset path: samples per pixel of the float path tracer (default: the larger "
+                  "of 256 and 4 x the device's samples per pixel)")
+      ->check(CLI::Range(1, scene::kMaxSpp));
+  cmd->add_option("--accumulate", o->accumulate,
+                  "--mode hw --preset path: show the still world for N frames, so that frame memory accumulates up\n"
+                  "to N x --spp samples per pixel (at most 255); writes, and with --compare compares, the last")
+      ->check(CLI::Range(1, 1'000'000));
 #ifdef TRIPSITTER_WITH_MPI
   cmd->footer("MPI: started by Open MPI's mpirun (mpirun -np K tripsitter render --mode path ...), the K ranks share\n"
               "the path tracer's work: rows of a still, frames of an animation. Rank 0 shows the progress and writes\n"

@@ -31,6 +31,9 @@ struct RenderOptions {
   std::size_t transfer_bytes = link::SpiConfig{}.max_transfer_bytes;
   std::int64_t spi_hz = link::SpiConfig{}.clock_hz;
   bool compare = false;
+  bool json = false;       // --compare's figures as one JSON object on stdout
+  int reference_spp = 0;   // --compare with a path-tracing preset: the float reference's samples (0: the default)
+  int accumulate = 0;      // hw with a path-tracing preset: frames of the still world (0: one)
   // path mode; 0 means the scene's render settings
   int spp = 0;
   int depth = 0;

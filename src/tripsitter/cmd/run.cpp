@@ -3,7 +3,9 @@
 #include <iostream>
 #include <memory>
 
+#include <tripsitter/device/preset.h>
 #include <tripsitter/frontend/run.h>
+#include <tripsitter/scene/scene.h>
 
 #include "commands.h"
 #include "common.h"
@@ -22,13 +24,22 @@ struct RunCommandOptions {
   std::uint64_t seed = 1;
   int threads = 0;
   std::uint64_t frames = 0;
+  int spp = 0;    // 0: not given
+  int depth = 0;
 };
 
 int run_run(const RunCommandOptions& o) {
   frontend::AppConfig c;
   c.mode = parse_mode(o.mode);
   c.wire = parse_wire(o.wire);
-  c.preset = load_preset(o.preset, o.workers);
+  const bool hw = c.mode == modes::Mode::kHw;
+  if (c.mode == modes::Mode::kNormal && (o.spp != 0 || o.depth != 0))
+    throw InputError("--spp and --depth need --mode hw with --preset path, or --mode path (normal traces one ray per pixel)");
+  if (c.mode == modes::Mode::kPath && o.spp != 0)
+    throw InputError("--spp: the window's --mode path adds one sample per pixel per frame while the camera is still; "
+                     "--spp sets the device's samples per frame with --mode hw --preset path");
+  c.preset = load_preset(o.preset, o.workers, -1, hw ? o.spp : 0, hw ? o.depth : 0);
+  if (!hw) c.max_depth = o.depth;
   c.scene = load_scene(o.scene);
   c.screenshot_dir = o.screenshot_dir;
   c.seed = o.seed;
@@ -48,13 +59,27 @@ void add_run_command(CLI::App& app, Action& run) {
       "run",
       "Open a window that shows the board's VGA monitor live; the keyboard drives the host's camera.\n"
       "Keys: W/S forward/back, A/D left/right, I/K look up/down, J/L look left/right, Q/E orbit the target,\n"
-      "R reset, Tab figures, H help, F12 screenshot (PNG in --screenshot-dir), Esc or closing the window quits.");
+      "R reset, Tab figures, H help, F12 screenshot (PNG in --screenshot-dir), Esc or closing the window quits.\n"
+      "Tab shows frames per second and frame time; in hw mode late lines, link bytes and saturations, and with\n"
+      "--preset path the samples per pixel accumulated and the device's workers; in path mode samples per pixel.");
   cmd->add_option("--scene", o->scene, "Built-in scene name or JSON scene file")->capture_default_str();
   cmd->add_option("--mode", o->mode,
-                  "hw: every camera change goes host -> link -> device -> VGA capture; normal: the float reference;\n"
-                  "path: the path tracer, refining while the camera is still")
+                  "hw: every camera change goes host -> link -> device -> VGA capture (with --preset path the\n"
+                  "device accumulates samples while the camera is still); normal: the float reference;\n"
+                  "path: the float path tracer, refining while the camera is still")
       ->capture_default_str();
-  cmd->add_option("--preset", o->preset, "Device preset (hw)")->capture_default_str();
+  cmd->add_option("--preset", o->preset,
+                  "Device preset (hw): " + join(device::preset_names()) +
+                      "; path path-traces, and accumulates in frame memory while the camera is still")
+      ->capture_default_str();
+  cmd->add_option("--spp", o->spp,
+                  "--mode hw --preset path: samples per pixel the device adds each frame, 1..255 (default 1; a pixel "
+                  "stops at 255)")
+      ->check(CLI::Range(1, 255));
+  cmd->add_option("--depth", o->depth,
+                  "--mode hw --preset path: rays per path on the device, 1..16 (default 4); --mode path: most bounces "
+                  "along one path (default: the scene's render.max_depth)")
+      ->check(CLI::Range(1, scene::kMaxDepth));
   cmd->add_option("--workers", o->workers, "Number of device workers (default: the preset's)")->check(CLI::Range(1, 640));
   cmd->add_option("--wire", o->wire, "Link protocol, v1 or v2")->capture_default_str();
   cmd->add_option("--scale", o->scale, "Window size as a multiple of 640x480")->capture_default_str()->check(CLI::Range(1, 8));

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <thread>
@@ -320,6 +321,61 @@ TEST_F(TwoProcesses, AMismatchedHostIsToldItsWorldWasRejected) {
   stop_device();
   EXPECT_NE(device_->err().find("format mismatch"), std::string::npos) << device_->err();
   EXPECT_TRUE(frame_files().empty());
+}
+
+// The path preset as a program: it path-traces the host's v2 worlds with the --spp and --depth given, and keeps
+// accumulating while the worlds the host sends keep the same content. What it writes is compared with a board of the
+// same preset drawing the same worlds in one process: the first frame of a world, or the k-th of a still one.
+TEST_F(TwoProcesses, ThePathPresetTracesTheHostsWorldsAndAccumulatesWhileTheyStayTheSame) {
+  start_device({"--preset", "path", "--spp", "2", "--depth", "3"});
+  EXPECT_NE(device_->err().find("preset path (2 samples per pixel per frame, 3 rays per path"), std::string::npos)
+      << device_->err();
+  tripsitter::board::BoardConfig config;
+  config.preset = tripsitter::device::path_preset();
+  config.preset.path->spp = 2;
+  config.preset.path->depth = 3;
+  const auto board = [&config](const std::vector<HeldKey>& keys) {
+    auto b = std::make_unique<tripsitter::board::Board>(*tripsitter::scene::builtin("cluster"), config);
+    for (const HeldKey& k : keys)
+      for (int i = 0; i < k.ticks; ++i) tripsitter::host::apply_held_key(b->host().camera(), k.key, 1.0 / 60);
+    return b;
+  };
+
+  // The scene as loaded: the first frame of its world, two samples per pixel.
+  std::string err;
+  ASSERT_EQ(run_host("initial", {"--scene", "cluster", "--preset", "path"}, &err), 0) << err;
+  const Image444 first = board({})->show().image;
+  std::optional<Image444> got = newest_frame();
+  EXPECT_TRUE(got && *got == first) << describe_difference(got, first);
+  const std::size_t files = frame_files().size();
+
+  // Another host sends the same world again: a new world of the same content, so frame memory went on
+  // accumulating; how many frames the device drew meanwhile is up to the clock, so the frame written is the board's
+  // k-th for some k >= 2 (from k = 127 on, every pixel has its 254 samples and the picture stays).
+  ASSERT_EQ(run_host("again", {"--scene", "cluster"}, &err), 0) << err;
+  ASSERT_GT(frame_files().size(), files);
+  got = newest_frame();
+  ASSERT_TRUE(got.has_value());
+  EXPECT_FALSE(*got == first);
+  auto still = board({});
+  still->show();
+  int k = 1;
+  bool found = false;
+  while (!found && k < 128) {
+    ++k;
+    found = still->show().image == *got;
+  }
+  EXPECT_TRUE(found) << "the frame is none of the board's first 128 frames of the world";
+
+  // A moved camera: a world of new content, traced from its first sample.
+  write("keys.txt", "E 100ms\n");
+  ASSERT_EQ(run_host("orbit", {"--scene", "cluster", "--keys", path("keys.txt").string(), "--fast"}, &err), 0) << err;
+  const Image444 moved = board({{Key::kE, 6}})->show().image;
+  got = newest_frame();
+  EXPECT_TRUE(got && *got == moved) << describe_difference(got, moved);
+
+  stop_device();
+  EXPECT_NE(device_->err().find("0 rejected"), std::string::npos) << device_->err();
 }
 
 TEST_F(TwoProcesses, TheDeviceStopsAfterFramesAndWritesNothingWithoutAWorld) {

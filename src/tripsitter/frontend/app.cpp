@@ -22,11 +22,13 @@ App::App(AppConfig config) : config_(std::move(config)) {
   c.width = kWidth;
   c.height = kHeight;
   c.threads = config_.threads;
-  c.max_depth = config_.scene.render.max_depth;
+  c.max_depth = config_.max_depth > 0 ? config_.max_depth : config_.scene.render.max_depth;
   c.seed = config_.seed;
   c.progressive = true;
   source_ = modes::make_frame_source(config_.scene, c);
   info_.spheres = config_.scene.spheres.size();
+  info_.device_path = config_.mode == Mode::kHw && config_.preset.path && config_.wire != link::WireVersion::kV1;
+  info_.workers = config_.preset.workers;
   render_frame();
 }
 

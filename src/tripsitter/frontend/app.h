@@ -28,6 +28,7 @@ struct AppConfig {
   link::WireVersion wire = link::WireVersion::kV2;
   std::string screenshot_dir = ".";
   std::uint64_t seed = 1;      // path mode
+  int max_depth = 0;           // path mode: bounces along one path (0: the scene's render.max_depth)
   int threads = 0;             // normal and path modes, 0: all
   host::ControlSpeeds speeds;
 };
@@ -47,7 +48,9 @@ struct FrameInfo {
   std::size_t link_bytes = 0;
   double link_ms = 0;        // at the SPI clock
   std::uint64_t saturations = 0;
-  int samples = 0;           // path: samples per pixel accumulated in the frame shown
+  int samples = 0;           // path, and hw with a path-tracing device: samples per pixel accumulated in the frame shown
+  bool device_path = false;  // hw: the device path-traces (a path-tracing preset fed v2 worlds)
+  int workers = 0;           // hw: the device's workers
 };
 
 class App {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <tripsitter/display/png.h>
+#include <tripsitter/frontend/window.h>
 #include <tripsitter/scene/builtin.h>
 
 namespace tripsitter::frontend {
@@ -115,6 +116,29 @@ TEST(App, PathModeRefinesWhileStillAndRestartsOnMovement) {
   EXPECT_EQ(app.info().samples, 3);
   hold(app, host::Key::kL, 0.05);
   EXPECT_EQ(app.info().samples, 1);
+}
+
+// hw with the path preset: the device accumulates while the camera is still (the host keeps sending the same
+// world), and a move starts it over; Tab's figures say how far it got.
+TEST(App, HwPathPresetAccumulatesWhileStillAndRestartsOnMovement) {
+  AppConfig c = config(Mode::kHw, "cluster");
+  c.preset = device::path_preset();
+  c.preset.path->spp = 2;
+  c.preset.workers = 32;
+  App app(std::move(c));
+  EXPECT_EQ(app.info().samples, 2);
+  EXPECT_TRUE(app.info().device_path);
+  const auto serial = app.frame_serial();
+  app.advance(0.01);  // nothing held: still a new frame, two more samples per pixel
+  app.advance(0.01);
+  EXPECT_EQ(app.frame_serial(), serial + 2);
+  EXPECT_EQ(app.info().samples, 6);
+  hold(app, host::Key::kL, 0.05);
+  EXPECT_EQ(app.info().samples, 2);
+  const std::vector<std::string> lines = overlay_text(app.info(), Mode::kHw);
+  ASSERT_EQ(lines.size(), 6u);
+  EXPECT_EQ(lines[2].rfind("late lines ", 0), 0u) << lines[2];
+  EXPECT_EQ(lines[5], "2 samples per pixel, 32 workers");
 }
 
 }  // namespace

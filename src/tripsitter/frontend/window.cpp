@@ -133,6 +133,11 @@ std::vector<std::string> overlay_text(const FrameInfo& info, Mode mode) {
     // Values the host clamped to the device's fixed point: only the world the board shows has any.
     std::snprintf(buf, sizeof buf, "saturations %llu", static_cast<unsigned long long>(info.saturations));
     lines.emplace_back(buf);
+    if (info.device_path) {
+      // Frame memory accumulates while the camera is still; late pixels get no sample in their frame.
+      std::snprintf(buf, sizeof buf, "%d samples per pixel, %d workers", info.samples, info.workers);
+      lines.emplace_back(buf);
+    }
   }
   if (mode == Mode::kPath) {
     std::snprintf(buf, sizeof buf, "%d samples per pixel", info.samples);

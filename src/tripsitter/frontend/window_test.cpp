@@ -90,5 +90,25 @@ TEST_F(WindowTest, ScriptedKeysDriveTheLoop) {
   fs::remove_all(dir);
 }
 
+// run --preset path: the loop keeps drawing while the device accumulates, with no key pressed, and Tab's figures
+// (samples per pixel, late lines, workers) are drawn over the frames.
+TEST_F(WindowTest, ThePathPresetRefinesInTheLoopWithTheOverlayShown) {
+  AppConfig config;
+  config.scene = *scene::builtin("demo");
+  config.preset = device::path_preset();
+  config.preset.path->depth = 2;
+  ASSERT_EQ(SDL_InitSubSystem(SDL_INIT_VIDEO), 0) << SDL_GetError();
+  push_key(SDL_SCANCODE_TAB, true);
+  const LatencyStats stats = run_window(config, {1, 4});  // four frames drawn, none answering a key
+  SDL_QuitSubSystem(SDL_INIT_VIDEO);
+  EXPECT_EQ(stats.samples, 0);
+  FrameInfo info;
+  info.device_path = true;
+  info.samples = 4;
+  info.workers = 64;
+  const auto lines = overlay_text(info, Mode::kHw);
+  EXPECT_EQ(lines.back(), "4 samples per pixel, 64 workers");
+}
+
 }  // namespace
 }  // namespace tripsitter::frontend

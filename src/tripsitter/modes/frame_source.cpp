@@ -18,7 +18,11 @@ host::Camera initial_camera(const scene::CameraSettings& c) { return host::Camer
 class HwSource final : public FrameSource {
  public:
   HwSource(const scene::Scene& scene, const SourceConfig& c)
-      : FrameSource(Mode::kHw), board_(scene, {c.preset, c.wire, c.spi, c.device_threads}), probe_(c.probe) {}
+      : FrameSource(Mode::kHw),
+        board_(scene, {c.preset, c.wire, c.spi, c.device_threads}),
+        probe_(c.probe),
+        accumulates_(c.preset.path.has_value() && c.wire != link::WireVersion::kV1),
+        spp_(c.preset.path ? c.preset.path->spp : 0) {}
 
   const host::Camera& camera() const override { return board_.host().camera(); }
   host::Camera& steer() override { return board_.host().camera(); }
@@ -32,12 +36,21 @@ class HwSource final : public FrameSource {
     frame_.link_bytes = shown.link_bytes;
     frame_.link_seconds = shown.link_seconds;
     frame_.spheres_dropped = shown.spheres_dropped;
+    frame_.samples = shown.device.samples_per_pixel;
+    frame_.scene_memory = &board_.device().scene();
+    frame_.frame_memory = board_.device().frame_memory();
     return frame_;
+  }
+  // The path preset accumulates while the host sends worlds of the same content, until frame memory is full.
+  bool refining() const override {
+    return accumulates_ && frame_.device.has_world && frame_.samples + spp_ <= device::kMaxSamples;
   }
 
  private:
   board::Board board_;
   std::function<void(const device::VgaSample&)> probe_;
+  const bool accumulates_;  // a path-tracing preset fed v2 worlds (v1 words are normal-shaded)
+  const int spp_;           // samples per pixel per frame
   Frame frame_;
 };
 

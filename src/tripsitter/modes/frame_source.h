@@ -71,7 +71,12 @@ struct Frame {
   std::size_t link_bytes = 0;
   double link_seconds = 0;              // at the SPI clock
   std::size_t spheres_dropped = 0;      // beyond scene memory, never sent
-  int samples = 0;                      // path: samples per pixel in the picture
+  int samples = 0;                      // path, and hw with a path-tracing preset: samples per pixel in the picture
+  // hw: the device's memories as this frame left them, valid until the next draw() (null in the other modes):
+  // scene memory, the world the frame shows in raw fixed point; and with a path-tracing preset frame memory,
+  // each pixel's accumulated samples (null for the other presets). modes/device_compare.h reads them.
+  const device::SceneMemory* scene_memory = nullptr;
+  const device::FrameMemory* frame_memory = nullptr;
 
   // The picture in 8-bit RGB: rgb, or vga with each channel expanded.
   core::ImageRgb8 rgb8() const { return vga.pixels.empty() ? rgb : core::to_rgb8(vga); }
@@ -94,8 +99,8 @@ class FrameSource {
 
   // The picture from the camera as it is now. The frame lives until the next call.
   virtual const Frame& draw() = 0;
-  // Whether another draw() would improve the picture although nothing moved (a progressive path source
-  // still refining).
+  // Whether another draw() would improve the picture although nothing moved (a progressive path source still
+  // refining; the hw source with a path-tracing preset while the device's frame memory still accumulates).
   virtual bool refining() const { return false; }
 
  protected:
