@@ -12,8 +12,9 @@
 // ray, comparing num compares t. In fixed point, positions carry 2^-F and the formulas are homogeneous in
 // that scale, so the kernel never needs to know F: only the host's rounding does.
 //
-// The quadratic is written once, in hit_num (from a, b and c' to num). closest_hit runs sphere_num for each
-// sphere, which computes b and c' and calls hit_num; the device's fast model calls hit_num itself with
+// The quadratic is written once, in discriminant and hit_num (from a, b and c' to num; far_hit_num takes the
+// other root for the device's path preset). closest_hit runs sphere_num for each sphere, which computes b and c'
+// (sphere_coefficients) and calls hit_num; the device's fast model calls hit_num itself with
 // coefficients it shares among many rays (device/fast_tracer.h), so both run the same steps and checks.
 //
 // The mirror model (docs/device.md): a ray that hits a metal, while fewer than max_bounces reflections
@@ -142,14 +143,11 @@ struct PixelTrace {
   int bounces = 0;
 };
 
-// The quadratic of one ray and one sphere, from its coefficients a = d.d, b = 2 d.oc and c' = oc.oc - r^2
-// (each caller computes them its own way: sphere_num below, or the device's fast model from terms it shares
-// among many rays). The result is > 0 exactly when the ray hits the sphere in front of its origin, and then
-// it is num = b - sqrt(D), D = b^2 - 4ac'. Otherwise it is <= 0: 0 when the ray misses (D < 0), b - sqrt(D)
-// when it meets the sphere only behind its origin or starts inside it. REQUIRES a checked (kA).
+// The discriminant D = b^2 - 4ac' of one ray and one sphere, from its coefficients a = d.d, b = 2 d.oc and
+// c' = oc.oc - r^2, every step checked: negative when the ray's line misses the sphere. REQUIRES a checked (kA).
 template <class Arith>
-inline typename Arith::Wide hit_num(const Arith& arith, typename Arith::Wide a, typename Arith::Wide b,
-                                    typename Arith::Wide c_prime) {
+inline SquareT<Arith> discriminant(const Arith& arith, typename Arith::Wide a, typename Arith::Wide b,
+                                   typename Arith::Wide c_prime) {
   using Wide = typename Arith::Wide;
   using Square = SquareT<Arith>;
   check_width(arith, b, Width::kB);
@@ -160,17 +158,44 @@ inline typename Arith::Wide hit_num(const Arith& arith, typename Arith::Wide a, 
   check_width(arith, ac4, Width::kSquare);
   const Square disc = b2 - ac4;
   check_width(arith, disc, Width::kDisc);
-  if (disc < Square(0)) return Wide(0);
+  return disc;
+}
+
+// The quadratic of one ray and one sphere, from its coefficients (each caller computes them its own way:
+// sphere_num below, or the device's fast model from terms it shares among many rays). The result is > 0 exactly
+// when the ray hits the sphere in front of its origin, and then it is num = b - sqrt(D). Otherwise it is <= 0: 0
+// when the ray misses (D < 0), b - sqrt(D) when it meets the sphere only behind its origin or starts inside it.
+// REQUIRES a checked (kA).
+template <class Arith>
+inline typename Arith::Wide hit_num(const Arith& arith, typename Arith::Wide a, typename Arith::Wide b,
+                                    typename Arith::Wide c_prime) {
+  using Wide = typename Arith::Wide;
+  const SquareT<Arith> disc = discriminant(arith, a, b, c_prime);
+  if (disc < SquareT<Arith>(0)) return Wide(0);
   const Wide num = b - Wide(arith.sqrt(disc));
   check_width(arith, num, Width::kNum);
   return num;  // <= 0: the near intersection is behind the origin (or the origin is inside)
 }
 
-// The ray against sphere s: hit_num of its coefficients, > 0 exactly when the ray hits s in front of its
-// origin, and then num = b - sqrt(D) (t = num / 2a). a = d.d of the ray, checked (kA).
+// The far intersection's num = b + sqrt(D), for a ray inside the sphere (the device's path preset, whose
+// refracted rays travel inside dielectrics): > 0 exactly when the line meets the sphere ahead of the origin's
+// far side; 0 when it misses (D < 0). REQUIRES a checked (kA).
 template <class Arith>
-inline typename Arith::Wide sphere_num(const Arith& arith, const KernelRay<typename Arith::Wide>& ray,
-                                       typename Arith::Wide a, const KernelSphere<typename Arith::Coord>& s) {
+inline typename Arith::Wide far_hit_num(const Arith& arith, typename Arith::Wide a, typename Arith::Wide b,
+                                        typename Arith::Wide c_prime) {
+  using Wide = typename Arith::Wide;
+  const SquareT<Arith> disc = discriminant(arith, a, b, c_prime);
+  if (disc < SquareT<Arith>(0)) return Wide(0);
+  const Wide num = b + Wide(arith.sqrt(disc));
+  check_width(arith, num, Width::kNum);
+  return num;
+}
+
+// b = 2 d.oc and c' = oc.oc - r^2 of the ray against sphere s, its centre, radius and oc = c - o checked.
+template <class Arith>
+inline std::array<typename Arith::Wide, 2> sphere_coefficients(const Arith& arith,
+                                                              const KernelRay<typename Arith::Wide>& ray,
+                                                              const KernelSphere<typename Arith::Coord>& s) {
   using Wide = typename Arith::Wide;
   const Vec3<Wide>& d = ray.direction;
   const Vec3<Wide>& o = ray.origin;
@@ -179,8 +204,15 @@ inline typename Arith::Wide sphere_num(const Arith& arith, const KernelRay<typen
   const Vec3<Wide> oc{Wide(s.center.x) - o.x, Wide(s.center.y) - o.y, Wide(s.center.z) - o.z};
   for (int k = 0; k < 3; ++k) check_width(arith, oc[k], Width::kToCentre);
   const Wide r = Wide(s.radius);
-  const Wide b = Wide(2) * dot(d, oc);
-  const Wide c_prime = dot(oc, oc) - r * r;
+  return {Wide(2) * dot(d, oc), dot(oc, oc) - r * r};
+}
+
+// The ray against sphere s: hit_num of its coefficients, > 0 exactly when the ray hits s in front of its
+// origin, and then num = b - sqrt(D) (t = num / 2a). a = d.d of the ray, checked (kA).
+template <class Arith>
+inline typename Arith::Wide sphere_num(const Arith& arith, const KernelRay<typename Arith::Wide>& ray,
+                                       typename Arith::Wide a, const KernelSphere<typename Arith::Coord>& s) {
+  const auto [b, c_prime] = sphere_coefficients(arith, ray, s);
   return hit_num(arith, a, b, c_prime);
 }
 

@@ -100,26 +100,12 @@ struct PathCounters {
   PathCounters& operator+=(const PathCounters& o);
 };
 
-// The far intersection of `ray` with sphere s, num = b + sqrt(D), when the ray is inside it: > 0 exactly when
-// the line meets the sphere ahead of the origin's far side (0 when D < 0).
+// The far intersection of `ray` with sphere s, num = b + sqrt(D), when the ray is inside it (core::far_hit_num).
 template <class Arith>
 core::Int128 far_num(const Arith& arith, const core::KernelRay<core::Int128>& ray,
-                            const core::KernelSphere<std::int64_t>& s) {
-  using core::Int128;
-  const core::Vec3<Int128> oc{Int128(s.center.x) - ray.origin.x, Int128(s.center.y) - ray.origin.y,
-                              Int128(s.center.z) - ray.origin.z};
-  for (int k = 0; k < 3; ++k) arith.check(oc[k], core::Width::kToCentre);
-  const Int128 a = core::dot(ray.direction, ray.direction);
-  const Int128 b = 2 * core::dot(ray.direction, oc);
-  const Int128 c_prime = core::dot(oc, oc) - Int128(s.radius) * s.radius;
-  arith.check(b, core::Width::kB);
-  arith.check(c_prime, core::Width::kCPrime);
-  const Int128 disc = b * b - 4 * a * c_prime;
-  arith.check(disc, core::Width::kDisc);
-  if (disc < 0) return 0;
-  const Int128 num = b + arith.sqrt(disc);
-  arith.check(num, core::Width::kNum);
-  return num;
+                     const core::KernelSphere<std::int64_t>& s) {
+  const auto [b, c_prime] = core::sphere_coefficients(arith, ray, s);
+  return core::far_hit_num(arith, core::dot(ray.direction, ray.direction), b, c_prime);
 }
 
 // The closest hit of a path ray given the closest near hit over every sphere but `from` (core::closest_hit's
