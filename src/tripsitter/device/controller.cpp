@@ -2,8 +2,7 @@
 
 namespace tripsitter::device {
 
-Controller::Controller(const DevicePreset& preset)
-    : preset_(preset), worker_(preset), arith_{SqrtUnit(preset.sqrt_iterations), FixedArith::extra_bits_of(preset)} {}
+Controller::Controller(const DevicePreset& preset) : preset_(preset), worker_(preset) {}
 
 int Controller::pixels_in_time(std::int64_t spheres) const {
   const int per_worker = (kLineWidth + preset_.workers - 1) / preset_.workers;
@@ -21,11 +20,12 @@ LineResult Controller::render_path_line(int row, const SceneMemory& scene, const
                                         std::span<AccumEntry> memory, std::span<core::Rgb444> line,
                                         PathCounters& counters) const {
   const std::span<const core::KernelSphere<std::int64_t>> spheres(scene.geometry);
+  const FixedArith& arith = worker_.arith();
   const auto closest = [&](const PathRay& path) {
-    return with_far_side(arith_, path, core::closest_hit(arith_, path.ray, spheres, path.from), spheres);
+    return with_far_side(arith, path, core::closest_hit(arith, path.ray, spheres, path.from), spheres);
   };
   return schedule_path_line(preset_, static_cast<std::int64_t>(spheres.size()), line, memory, [&](int col) {
-    return trace_path_pixel(arith_, col, row, memory[static_cast<std::size_t>(col)], spheres, frame, counters, closest);
+    return trace_path_pixel(arith, col, row, memory[static_cast<std::size_t>(col)], spheres, frame, counters, closest);
   });
 }
 

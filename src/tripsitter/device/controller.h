@@ -110,8 +110,7 @@ class Controller {
 
  private:
   DevicePreset preset_;
-  Worker worker_;     // the workers are identical and stateless between pixels, so one model serves all N
-  FixedArith arith_;  // the path preset's arithmetic
+  Worker worker_;  // the workers are identical and stateless between pixels, so one model serves all N
 };
 
 }  // namespace tripsitter::device

@@ -184,6 +184,8 @@ class Worker {
   // The colour of one pixel (trace without the bounce count).
   core::Rgb444 shade(int col, int row, const SceneMemory& scene) const { return trace(col, row, scene).colour; }
   int max_bounces() const { return max_bounces_; }
+  // The worker's arithmetic (its square-root unit and checks), which the path preset's kernel runs on too.
+  const FixedArith& arith() const { return arith_; }
 
  private:
   FixedArith arith_;
