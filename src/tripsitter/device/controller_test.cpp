@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -197,6 +199,155 @@ TEST(Mirror, LatePixelsGrowWithTheBounceCutOff) {
     EXPECT_EQ(Controller(p).render_line(17, m, line).late_pixels, expected_late[static_cast<std::size_t>(bounces)])
         << bounces;
   }
+}
+
+// --- A line's demand (LineResult::demand_cycles) ---
+
+DevicePreset tracing_late(DevicePreset p, bool trace = true) {
+  p.trace_late_pixels = trace;
+  return p;
+}
+
+// The demand of row `row`, counted independently of the schedule: every worker's pixels' occupancies from the
+// worker's own bounce counts, plus the drain; the largest over the workers.
+std::int64_t demand_by_hand(const DevicePreset& p, const SceneMemory& m, int row) {
+  const Worker w(p);
+  const auto spheres = static_cast<std::int64_t>(m.geometry.size());
+  std::int64_t worst = 0;
+  for (int worker = 0; worker < p.workers; ++worker) {
+    std::int64_t busy = 0;
+    for (int col = worker; col < kLineWidth; col += p.workers) busy += p.pixel_occupancy(spheres, w.trace(col, row, m).bounces);
+    worst = std::max(worst, busy + p.drain_cycles());
+  }
+  return worst;
+}
+
+// The board's costs without metal: every pixel takes 2 + spheres * 45 + 4 cycles, back to back, so the worker
+// with the most pixels, ceil(640 / workers) of them, sets the demand. Nothing reflects, so the late pixels
+// take exactly the least a pixel can, and the lower bound without tracing them is exact too.
+TEST(Demand, TheBoardsBusiestWorkerNeedsItsPixelsTimesTheirCycles) {
+  for (const int workers : {10, 7, 3, 640}) {
+    for (const bool trace : {false, true}) {
+      const DevicePreset p = tracing_late([&] {
+        DevicePreset b = board_2023_preset();
+        b.workers = workers;
+        return b;
+      }(), trace);
+      SceneMemory m;
+      add_sphere(m, p, 0, 0, 400, 64, kLambertian, {});
+      add_sphere(m, p, -150, 60, 350, 40, kLambertian, {});
+      add_sphere(m, p, 120, -80, 500, 100, kMetal, {});  // a metal, shaded as the board did (no bounces)
+      EXPECT_EQ(p.pixel_occupancy(3, 0), 2 + 3 * 45 + 4);
+      const std::int64_t expected = (640 + workers - 1) / workers * std::int64_t{141};
+      std::array<core::Rgb444, kLineWidth> line;
+      for (const int row : {0, 240, 300}) {
+        const LineResult r = Controller(p).render_line(row, m, line);
+        EXPECT_EQ(r.demand_cycles, expected) << workers << " workers, row " << row << (trace ? ", traced" : "");
+        EXPECT_EQ(r.demand_cycles, demand_by_hand(p, m, row));
+        EXPECT_EQ(r.late_pixels > 0, expected > p.lead_cycles);
+      }
+    }
+  }
+}
+
+// The pipelined wide preset without metal: pixel k of a worker is done at (k + 1) * spheres + 35, so a line
+// demands 64 * spheres + 35 cycles: 3171 with 49 spheres (on time), 3875 with 60 (late).
+TEST(Demand, TheWidePresetsLineDemandsSixtyFourPixelsOfSpheresPlusTheDrain) {
+  for (const int count : {1, 49, 60}) {
+    for (const bool trace : {false, true}) {
+      const DevicePreset p = tracing_late(wide_preset(), trace);
+      SceneMemory m;
+      for (int i = 0; i < count; ++i) add_sphere(m, p, -300 + 10 * i, 30 * (i % 5), 400 + 5 * i, 20, kLambertian, {});
+      std::array<core::Rgb444, kLineWidth> line;
+      const LineResult r = Controller(p).render_line(200, m, line);
+      EXPECT_EQ(r.demand_cycles, 64 * count + 35) << count << (trace ? ", traced" : "");
+      EXPECT_EQ(r.late_pixels == 0, 64 * count + 35 <= 3200) << count;
+    }
+  }
+}
+
+// The board's demo sphere of metal (Mirror.ReflectingPixelsMakeTheirWorkersLate): a worker with 11 of the
+// reflecting pixels (106 cycles each, the others 51) needs 64 * 51 + 11 * 55 = 3869 cycles. Its reflecting
+// pixels are all among its first 46, on time, so its late pixels take the least a pixel can: the bound without
+// tracing them is exact as well.
+TEST(Demand, ReflectingPixelsOnTimeCountTheirOwnCycles) {
+  for (const bool trace : {false, true}) {
+    const DevicePreset p = tracing_late(with_bounces(board_2023_preset(), 1), trace);
+    SceneMemory m;
+    add_sphere(m, p, 0, 0, 400, 64, kMetal, {255, 255, 255});
+    std::array<core::Rgb444, kLineWidth> line;
+    const LineResult r = Controller(p).render_line(240, m, line);
+    EXPECT_EQ(r.demand_cycles, 64 * 51 + 11 * 55);
+    EXPECT_EQ(r.demand_cycles, demand_by_hand(p, m, 240));
+    EXPECT_EQ(r.late_pixels, 166);
+    EXPECT_EQ(r.reflections, 103);
+  }
+}
+
+// Two nearly flat mirrors (Mirror.LatePixelsGrowWithTheBounceCutOff): every pixel bounces 3 times, 131 cycles.
+// Traced, the line demands 64 * 131 + 35 = 8419 cycles. Untraced, the late pixels (40 of each worker's 64) are
+// not known and count 2 cycles each, a pixel without a bounce: 24 * 131 + 40 * 2 + 35 = 3259, a lower bound.
+TEST(Demand, WithoutTracingLatePixelsTheDemandIsALowerBound) {
+  const auto line_of = [](const DevicePreset& p) {
+    SceneMemory m;
+    add_sphere(m, p, 0, 0, 100000, 99000, kMetal, {255, 255, 255});
+    add_sphere(m, p, 0, 0, -100000, 99000, kMetal, {255, 255, 255});
+    std::array<core::Rgb444, kLineWidth> line;
+    const LineResult r = Controller(p).render_line(17, m, line);
+    EXPECT_EQ(r.demand_cycles, p.trace_late_pixels ? demand_by_hand(p, m, 17) : 3259);
+    return std::pair{r, line};
+  };
+  const auto [off, off_line] = line_of(wide_preset());
+  const auto [on, on_line] = line_of(tracing_late(wide_preset()));
+  EXPECT_EQ(on.demand_cycles, 64 * 131 + 35);
+  EXPECT_GT(off.demand_cycles, 3200);
+  EXPECT_LT(off.demand_cycles, on.demand_cycles);
+  // Nothing shown changes.
+  EXPECT_EQ(off.late_pixels, 400);
+  EXPECT_EQ(on.late_pixels, 400);
+  EXPECT_EQ(on.reflections, off.reflections);
+  EXPECT_EQ(on_line, off_line);
+}
+
+// The path preset's schedule: a pixel's demand is its own path_occupancy, whatever its rays and bounces; a
+// converged pixel (no rays) is the least, one issue slot.
+TEST(Demand, ThePathScheduleSumsEachPixelsOccupancy) {
+  DevicePreset p = path_preset();
+  p.workers = 2;
+  p.lead_cycles = 1000;
+  for (const bool trace : {false, true}) {
+    p.trace_late_pixels = trace;
+    std::vector<AccumEntry> memory(kLineWidth);
+    std::array<core::Rgb444, kLineWidth> line;
+    int traced = 0;
+    // Column col traces col % 3 rays with col % 3 - 1 metal bounces (at least none).
+    const LineResult r = schedule_path_line(p, 5, line, memory, [&](int col) {
+      ++traced;
+      PathPixel px;
+      px.rays = col % 3;
+      px.bounces.metal = std::max(0, col % 3 - 1);
+      return px;
+    });
+    std::int64_t worst = 0;
+    for (int w = 0; w < 2; ++w) {
+      std::int64_t busy = 0;
+      for (int col = w; col < kLineWidth; col += 2) {
+        const int rays = col % 3;
+        busy += p.path_occupancy(5, rays, {0, std::max(0, rays - 1), 0});
+      }
+      worst = std::max(worst, busy + p.path_drain_cycles());
+    }
+    EXPECT_GT(r.late_pixels, 0);
+    if (trace) {
+      EXPECT_EQ(r.demand_cycles, worst);
+      EXPECT_EQ(traced, kLineWidth);
+    } else {
+      EXPECT_GT(r.demand_cycles, p.lead_cycles);
+      EXPECT_LT(r.demand_cycles, worst);
+      EXPECT_LT(traced, kLineWidth);
+    }
+  }
+  EXPECT_EQ(p.path_occupancy(5, 0, {0, 0, 0}), 1);
 }
 
 // --- The generalised kernel keeps the board's primary rays bit for bit ---

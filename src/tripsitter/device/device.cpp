@@ -63,6 +63,8 @@ void Device::start_line(int line) {
       const FrameLines::Line& computed = ahead_->line(next);
       back = computed.pixels;
       r.late_pixels = computed.late_pixels;
+      r.reflections = computed.reflections;
+      r.demand_cycles = computed.demand_cycles;
       r.rays = computed.rays;
       building_.path += computed.counters;
     } else if (path_traced()) {
@@ -71,6 +73,8 @@ void Device::start_line(int line) {
       r = controller_.render_line(next, scene_, back);
     }
     building_.rays += static_cast<std::uint64_t>(r.rays);
+    building_.reflections += static_cast<std::uint64_t>(r.reflections);
+    building_.worst_line_cycles = std::max(building_.worst_line_cycles, r.demand_cycles);
     if (r.late_pixels > 0) {
       building_.late_pixels += r.late_pixels;
       ++building_.late_lines;

@@ -34,8 +34,15 @@ struct FrameStats {
   bool has_world = false;       // false before the first good world
   int late_pixels = 0;
   int late_lines = 0;
+  // The largest demand of the frame's visible lines (LineResult::demand_cycles): the cycles its slowest line
+  // needed from the start of its work to its last colour. At most the lead time when no line is late; above it a
+  // lower bound unless the preset traces late pixels (DevicePreset::trace_late_pixels), then exact.
+  std::int64_t worst_line_cycles = 0;
+  // The mirror model (zero otherwise): reflections traced for the pixels on time.
+  std::uint64_t reflections = 0;
   // The path preset (zero otherwise): samples each pixel on time in every frame has accumulated (at most
-  // kMaxSamples), rays traced for the pixels on time, and what the workers did (PathCounters).
+  // kMaxSamples), rays traced for the pixels on time, and what the workers did (PathCounters: every pixel traced,
+  // the late ones too with DevicePreset::trace_late_pixels).
   int samples_per_pixel = 0;
   std::uint64_t rays = 0;
   PathCounters path;

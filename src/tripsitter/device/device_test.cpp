@@ -226,6 +226,11 @@ TEST(Device, FastFramesWithMirrorsEqualThePlainModel) {
       EXPECT_EQ(a.late_pixels, b.late_pixels);
       EXPECT_EQ(a.late_lines, b.late_lines);
       EXPECT_EQ(a.sequence, b.sequence);
+      EXPECT_EQ(a.worst_line_cycles, b.worst_line_cycles);
+      EXPECT_EQ(a.reflections, b.reflections);
+      EXPECT_EQ(a.worst_line_cycles, c.worst_line_cycles);
+      EXPECT_EQ(a.reflections, c.reflections);
+      EXPECT_EQ(ticked.current_frame().worst_line_cycles, a.worst_line_cycles);
       if (world == 2) {
         EXPECT_GT(a.late_lines, 0) << p.name;
       }
@@ -233,6 +238,83 @@ TEST(Device, FastFramesWithMirrorsEqualThePlainModel) {
     EXPECT_EQ(plain.total_late_pixels(), fast.total_late_pixels());
     EXPECT_EQ(plain.total_late_lines(), fast.total_late_lines());
     EXPECT_EQ(plain.total_late_lines(), ticked.total_late_lines());
+  }
+}
+
+// trace_late_pixels, a measurement option of the model: whole frames through the wire and the VGA signal, in both
+// models, show the same pixels and count the same late pixels, lines and reflections with it as without, on the
+// presets with mirrors (the board's few workers make every line late). The demand is the same in both models;
+// traced it is exact, at least the untraced lower bound, and the same on a frame with no late line.
+TEST(Device, TracingLatePixelsChangesNothingShown) {
+  std::mt19937 rng(33);
+  DevicePreset board_few = board_2023_preset();
+  board_few.name = "board-2023, 4 workers, 2 bounces";
+  board_few.workers = 4;
+  board_few.max_bounces = 2;
+  DevicePreset board_one = board_2023_preset();
+  board_one.name = "board-2023, 640 workers, 1 bounce";  // nothing late
+  board_one.workers = 640;
+  board_one.max_bounces = 1;
+  for (const DevicePreset& off : {wide_preset(), board_2023_preset(), board_few, board_one}) {
+    DevicePreset on = off;
+    on.trace_late_pixels = true;
+    std::vector<std::array<double, 4>> spheres;
+    std::vector<std::array<std::uint8_t, 3>> albedos;
+    std::uniform_real_distribution<double> xy(-300, 300), z(150, 1500), r(5, 120);
+    // A large metal sphere on the left, where the workers with few pixels on time draw, then random ones.
+    spheres.push_back({-300, 0, 400, 150});
+    albedos.push_back({255, 200, 100});
+    const int count = off.name == "wide" ? 44 : 5;
+    for (int i = 0; i < count; ++i) {
+      spheres.push_back({xy(rng), xy(rng) / 2, z(rng) / 2, r(rng) / 2});
+      albedos.push_back({static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()), 255});
+    }
+    const auto bytes = metal_frame(off, 1, spheres, albedos);
+    std::vector<FrameStats> stats;  // plain off, plain on, fast off, fast on
+    std::vector<std::vector<core::Rgb444>> frames;
+    for (const DeviceModel model : {DeviceModel::kPlain, DeviceModel::kFast}) {
+      for (const DevicePreset* p : std::array<const DevicePreset*, 2>{&off, &on}) {
+        Device d(*p, link::WireVersion::kV2, 2, model);
+        d.transfer(bytes);
+        FrameStats s;
+        frames.push_back(visible_pixels(d, &s));
+        stats.push_back(s);
+      }
+    }
+    for (std::size_t i = 1; i < frames.size(); ++i) {
+      ASSERT_EQ(frames[0], frames[i]) << off.name << ", run " << i;
+      EXPECT_EQ(stats[0].late_pixels, stats[i].late_pixels) << off.name << ", run " << i;
+      EXPECT_EQ(stats[0].late_lines, stats[i].late_lines) << off.name << ", run " << i;
+      EXPECT_EQ(stats[0].reflections, stats[i].reflections) << off.name << ", run " << i;
+    }
+    EXPECT_EQ(stats[0].worst_line_cycles, stats[2].worst_line_cycles) << off.name;
+    EXPECT_EQ(stats[1].worst_line_cycles, stats[3].worst_line_cycles) << off.name;
+    EXPECT_LE(stats[0].worst_line_cycles, stats[1].worst_line_cycles) << off.name;
+    if (off.max_bounces > 0) {
+      EXPECT_GT(stats[0].reflections, 1000u) << off.name;
+    }
+    if (off.workers == 640) {
+      EXPECT_EQ(stats[0].late_lines, 0) << off.name;
+      EXPECT_EQ(stats[0].worst_line_cycles, stats[1].worst_line_cycles) << off.name;
+      EXPECT_LE(stats[0].worst_line_cycles, off.lead_cycles) << off.name;
+    } else {
+      EXPECT_GT(stats[0].late_lines, 0) << off.name;
+      EXPECT_GT(stats[0].worst_line_cycles, off.lead_cycles) << off.name;
+    }
+  }
+}
+
+// The frame's demand is the largest of its lines': the board's demo sphere, 58 of 64 pixels a worker on time,
+// needs 64 * 51 cycles on every line; reflections are the mirror model's on-time pixels' only.
+TEST(Device, TheWorstLineOfTheBoardsDemoNeeds64PixelsOf51Cycles) {
+  const DevicePreset p = board_2023_preset();
+  for (const DeviceModel model : {DeviceModel::kPlain, DeviceModel::kFast}) {
+    Device d(p, link::WireVersion::kV2, 2, model);
+    d.transfer(frame_of(p, 1, {{0, 0, 400, 64}}));
+    FrameStats stats;
+    visible_pixels(d, &stats);
+    EXPECT_EQ(stats.worst_line_cycles, 64 * 51);
+    EXPECT_EQ(stats.reflections, 0u);
   }
 }
 

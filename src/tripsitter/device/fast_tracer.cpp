@@ -39,9 +39,11 @@ void FastTracer::load(const SceneMemory& scene) {
            std::abs(s.center.z) < kNarrowLimit && s.radius >= 0 && s.radius < kNarrowLimit;
   });
   if (!narrow_) return;
-  // (A path pixel that has converged costs one issue slot, so on the path preset any column can be on time.)
-  columns_ = preset_.path ? kScreenWidth
-                          : std::min(kScreenWidth, preset_.workers * controller_.pixels_in_time(static_cast<std::int64_t>(n)));
+  // (A path pixel that has converged costs one issue slot, so on the path preset any column can be on time. With
+  // trace_late_pixels the late columns are traced too, for the line's demand.)
+  columns_ = preset_.path || preset_.trace_late_pixels
+                 ? kScreenWidth
+                 : std::min(kScreenWidth, preset_.workers * controller_.pixels_in_time(static_cast<std::int64_t>(n)));
   cx_.resize(n);
   cy_.resize(n);
   cz_.resize(n);
@@ -183,7 +185,8 @@ LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const 
   const auto surface_of = [&scene](int i) { return kernel_surface(scene, i); };
   return schedule_line(preset_, static_cast<std::int64_t>(spheres.size()), line, [&](int col) {
     // The schedule starts a worker's first late pixel before it knows it is late; from columns_ on, a
-    // pixel is late whatever it shows, so it needs no tracing.
+    // pixel is late whatever it shows, so it needs no tracing (the schedule's lower bound on the line's demand
+    // does not read it; with trace_late_pixels columns_ is the whole line).
     if (col >= columns_) return core::PixelTrace{core::kBlack, 0};
     const auto c = static_cast<std::size_t>(col);
     // The first pass of trace_pixel_with, for the pixels it ends: a miss, or a hit on a sphere that does

@@ -1,5 +1,5 @@
-// The fast model of the workers (Device's DeviceModel::kFast): for every line, exactly the colours and late
-// pixels of Controller::render_line (the plain model, a Worker::trace per pixel), from exact integer
+// The fast model of the workers (Device's DeviceModel::kFast): for every line, exactly the colours, late
+// pixels, reflections and demand of Controller::render_line (the plain model, a Worker::trace per pixel), from exact integer
 // shortcuts (docs/device.md, "The fast model"):
 //  - screen-space bounds. The rays of column x all lie in one plane through the camera, those of a row in
 //    another; a ray can only hit a sphere that both its planes meet, and no ray hits a sphere wholly behind
@@ -112,7 +112,9 @@ class FastTracer {
   ClosedFormArith path_arith_;  // arith_ with the closed-form square root, for the path kernel
   const SceneMemory* scene_ = nullptr;
   bool narrow_ = false;
-  int columns_ = 0;  // columns that can be on time: workers * pixels_in_time (later ones are late for sure)
+  // Columns that can be on time: workers * pixels_in_time (later ones are late for sure); every column on the path
+  // preset and with trace_late_pixels.
+  int columns_ = 0;
   // The spheres, structure of arrays: centre, radius squared, c' = centre.centre - r^2 (a camera ray's).
   std::vector<std::int64_t> cx_, cy_, cz_, r2_, c_prime_;
   // Columns [col_lo_, col_hi_] whose planes meet sphere i (empty when col_lo_ > col_hi_).

@@ -64,6 +64,7 @@ TEST(FastTracer, RowsEqualThePlainModelOnRandomWorlds) {
         const LineResult b = fast.render_line(row, got);
         ASSERT_EQ(a.late_pixels, b.late_pixels) << p.name << " world " << world << " row " << row;
         ASSERT_EQ(a.reflections, b.reflections) << p.name << " world " << world << " row " << row;
+        ASSERT_EQ(a.demand_cycles, b.demand_cycles) << p.name << " world " << world << " row " << row;
         for (int col = 0; col < kLineWidth; ++col)
           ASSERT_EQ(expected[static_cast<std::size_t>(col)], got[static_cast<std::size_t>(col)])
               << p.name << " world " << world << " row " << row << " col " << col;
@@ -81,6 +82,56 @@ TEST(FastTracer, RowsEqualThePlainModelOnRandomWorlds) {
       EXPECT_LT(fallback_worlds, kWorldsPerPreset) << p.name;
     } else {
       EXPECT_EQ(fallback_worlds, 0) << p.name;
+    }
+  }
+}
+
+// With trace_late_pixels (every column traced, no columns_ shortcut) the fast model still gives the plain model's
+// rows, and both show what they show without it: the same colours, late pixels and reflections. The demand is
+// the same in both models either way; tracing the late pixels can only raise it, and only on late lines.
+TEST(FastTracer, TracingLatePixelsChangesNothingShownAndGivesTheExactDemand) {
+  std::mt19937_64 rng(2028);
+  for (const DevicePreset& off : presets_under_test()) {
+    DevicePreset on = off;
+    on.trace_late_pixels = true;
+    const Controller plain_off(off), plain_on(on);
+    FastTracer fast_off(off), fast_on(on);
+    int late_lines = 0, raised = 0;
+    for (int world = 0; world < kWorldsPerPreset / 4; ++world) {
+      const SceneMemory scene = random_world(off, rng);
+      fast_off.load(scene);
+      fast_on.load(scene);
+      for (int k = 0; k < kRowsPerWorld; ++k) {
+        const int row = k == 0 ? 240 : static_cast<int>(rng() % 480);
+        std::array<std::array<core::Rgb444, kLineWidth>, 4> lines;
+        for (std::size_t i = 0; i < lines.size(); ++i) lines[i].fill(core::Rgb444(static_cast<std::uint16_t>(0x123 * (i + 1))));
+        const std::array<LineResult, 4> r{plain_off.render_line(row, scene, lines[0]), fast_off.render_line(row, lines[1]),
+                                          plain_on.render_line(row, scene, lines[2]), fast_on.render_line(row, lines[3])};
+        const std::string where = off.name + " world " + std::to_string(world) + " row " + std::to_string(row);
+        for (std::size_t i = 1; i < r.size(); ++i) {
+          ASSERT_EQ(lines[0], lines[i]) << where << ", line " << i;
+          ASSERT_EQ(r[0].late_pixels, r[i].late_pixels) << where << ", line " << i;
+          ASSERT_EQ(r[0].reflections, r[i].reflections) << where << ", line " << i;
+        }
+        ASSERT_EQ(r[0].demand_cycles, r[1].demand_cycles) << where;
+        ASSERT_EQ(r[2].demand_cycles, r[3].demand_cycles) << where;
+        if (r[0].late_pixels == 0) {
+          ASSERT_EQ(r[0].demand_cycles, r[2].demand_cycles) << where;
+          ASSERT_LE(r[0].demand_cycles, off.lead_cycles) << where;
+        } else {
+          ASSERT_GT(r[0].demand_cycles, off.lead_cycles) << where;
+          ASSERT_LE(r[0].demand_cycles, r[2].demand_cycles) << where;
+          ++late_lines;
+          raised += r[0].demand_cycles < r[2].demand_cycles;
+        }
+      }
+    }
+    // The board's worlds are late on most lines, and some late pixels reflect where the preset has mirrors.
+    if (off.name.starts_with("board-2023")) {
+      EXPECT_GT(late_lines, kWorldsPerPreset / 8) << off.name;
+    }
+    if (off.max_bounces > 0 && late_lines > 0) {
+      EXPECT_GT(raised, 0) << off.name;
     }
   }
 }
@@ -163,6 +214,7 @@ TEST(FastTracer, RowsEqualThePlainModelOnEdgeWorlds) {
       const LineResult b = fast.render_line(row, got);
       ASSERT_EQ(a.late_pixels, b.late_pixels) << "world " << w << " row " << row;
       ASSERT_EQ(a.reflections, b.reflections) << "world " << w << " row " << row;
+      ASSERT_EQ(a.demand_cycles, b.demand_cycles) << "world " << w << " row " << row;
       ASSERT_EQ(expected, got) << "world " << w << " row " << row;
     }
   }

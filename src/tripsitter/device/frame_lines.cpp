@@ -42,14 +42,13 @@ void FrameLines::start(const SceneMemory& scene, const PathFrame* path, FrameMem
 
 void FrameLines::compute(int row) {
   Line& line = lines_[static_cast<std::size_t>(row)];
-  if (path_) {
-    line.counters = {};
-    const LineResult r = fast_.render_path_line(row, *path_, memory_->row(row), line.pixels, line.counters);
-    line.late_pixels = r.late_pixels;
-    line.rays = r.rays;
-  } else {
-    line.late_pixels = fast_.render_line(row, line.pixels).late_pixels;
-  }
+  line.counters = {};
+  const LineResult r = path_ ? fast_.render_path_line(row, *path_, memory_->row(row), line.pixels, line.counters)
+                             : fast_.render_line(row, line.pixels);
+  line.late_pixels = r.late_pixels;
+  line.reflections = r.reflections;
+  line.demand_cycles = r.demand_cycles;
+  line.rays = r.rays;
   done_[row].store(true, std::memory_order_release);
   done_[row].notify_all();
 }

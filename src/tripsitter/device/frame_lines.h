@@ -6,6 +6,7 @@
 
 #include <array>
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -25,8 +26,10 @@ class FrameLines {
   struct Line {
     std::array<core::Rgb444, kLineWidth> pixels{};
     int late_pixels = 0;
-    int rays = 0;            // path preset: rays of the pixels on time
-    PathCounters counters;   // path preset: what the line's workers did
+    int reflections = 0;             // mirror model: reflections of the pixels on time
+    std::int64_t demand_cycles = 0;  // LineResult::demand_cycles
+    int rays = 0;                    // path preset: rays of the pixels on time
+    PathCounters counters;           // path preset: what the line's workers did
   };
 
   // `threads` as Device's: 0 for every core; helpers are the threads beyond the caller's.

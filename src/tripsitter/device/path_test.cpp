@@ -65,7 +65,9 @@ std::string counters_text(const PathCounters& c) {
 std::string stats_text(const FrameStats& s) {
   return "sequence " + std::to_string(s.sequence) + " world " + std::to_string(s.has_world) + " late " +
          std::to_string(s.late_pixels) + "/" + std::to_string(s.late_lines) + " spp " +
-         std::to_string(s.samples_per_pixel) + " rays " + std::to_string(s.rays) + " " + counters_text(s.path);
+         std::to_string(s.samples_per_pixel) + " rays " + std::to_string(s.rays) + " worst line " +
+         std::to_string(s.worst_line_cycles) + " reflections " + std::to_string(s.reflections) + " " +
+         counters_text(s.path);
 }
 
 // The mixed world of the worker-count test: lambertian, fuzzed and sharp metal, glass, a large lambertian floor.
@@ -271,6 +273,7 @@ TEST(PathDevice, FastRowsEqualThePlainModelOnRandomWorlds) {
         ASSERT_EQ(a.late_pixels, b.late_pixels) << where;
         ASSERT_EQ(a.rays, b.rays) << where;
         ASSERT_EQ(a.reflections, b.reflections) << where;
+        ASSERT_EQ(a.demand_cycles, b.demand_cycles) << where;
         ASSERT_EQ(counters_text(want_counters), counters_text(got_counters)) << where;
         for (std::size_t col = 0; col < kLineWidth; ++col) {
           ASSERT_EQ(want[col], got[col]) << where << " col " << col;
@@ -455,6 +458,46 @@ TEST(PathDevice, ALatePixelKeepsItsOldEntry) {
       EXPECT_EQ(late, s.stats.late_pixels);
     }
     EXPECT_GT(late, 200000) << f;
+  }
+}
+
+// trace_late_pixels on the path preset: the late pixels are traced (the workers' counts grow by their work) but
+// their samples never reach frame memory or the screen: pixels, late pixels and lines, rays and frame memory are
+// the same with it as without, frame after frame, in both models; the demand is the same in both models, and
+// traced at least the untraced lower bound.
+TEST(PathDevice, TracingLatePixelsChangesNothingShown) {
+  const DevicePreset off = path_with(1, 2, 16);
+  DevicePreset on = off;
+  on.trace_late_pixels = true;
+  constexpr int kFrames = kSanitized ? 1 : 2;
+  std::vector<std::vector<Shot>> shots;  // plain off, plain on, fast off, fast on; a shot a frame
+  for (const DeviceModel model : {DeviceModel::kPlain, DeviceModel::kFast}) {
+    for (const DevicePreset* p : std::array<const DevicePreset*, 2>{&off, &on}) {
+      Device dev(*p, link::WireVersion::kV2, 2, model);
+      dev.transfer(path_frame_of(*p, 1, mixed_world()));
+      shots.emplace_back();
+      for (int f = 0; f < kFrames; ++f) shots.back().push_back(shoot(dev));
+    }
+  }
+  for (int f = 0; f < kFrames; ++f) {
+    const Shot& want = shots[0][static_cast<std::size_t>(f)];
+    EXPECT_GT(want.stats.late_lines, 0) << f;
+    for (std::size_t i = 1; i < shots.size(); ++i) {
+      const Shot& got = shots[i][static_cast<std::size_t>(f)];
+      ASSERT_EQ(got.pixels, want.pixels) << "run " << i << " frame " << f;
+      ASSERT_EQ(got.entries, want.entries) << "run " << i << " frame " << f;
+      EXPECT_EQ(got.stats.late_pixels, want.stats.late_pixels) << "run " << i << " frame " << f;
+      EXPECT_EQ(got.stats.late_lines, want.stats.late_lines) << "run " << i << " frame " << f;
+      EXPECT_EQ(got.stats.rays, want.stats.rays) << "run " << i << " frame " << f;
+      EXPECT_EQ(got.stats.samples_per_pixel, want.stats.samples_per_pixel) << "run " << i << " frame " << f;
+    }
+    const auto stats = [&](std::size_t run) { return shots[run][static_cast<std::size_t>(f)].stats; };
+    EXPECT_EQ(stats_text(stats(0)), stats_text(stats(2))) << f;
+    EXPECT_EQ(stats_text(stats(1)), stats_text(stats(3))) << f;
+    EXPECT_GT(stats(0).worst_line_cycles, off.lead_cycles) << f;
+    EXPECT_LT(stats(0).worst_line_cycles, stats(1).worst_line_cycles) << f;
+    EXPECT_GT(stats(1).path.samples, stats(0).path.samples) << f;  // the late pixels' work counts
+    EXPECT_EQ(stats(1).path.samples, 640u * 480u) << f;
   }
 }
 

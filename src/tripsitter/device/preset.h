@@ -51,11 +51,20 @@ struct CycleCosts {
   int accumulate = 8;
 };
 
-// The path preset's tracer (path_kernel.h): samples per pixel per frame, rays per path, ordered dithering.
+// Where the path preset's frame memory lives (docs/device.md, "Frame memory"): it changes only what the design
+// takes of the FPGA (resources.h), not what the device shows.
+enum class FrameMemoryPlace {
+  kExternal,  // external SRAM beside the FPGA (the board has footprints for it)
+  kBlockRam,  // the FPGA's block RAM
+};
+
+// The path preset's tracer (path_kernel.h): samples per pixel per frame, rays per path, ordered dithering, and
+// where frame memory lives.
 struct DevicePath {
   int spp = 1;
   int depth = 4;
   bool dither = true;
+  FrameMemoryPlace frame_memory = FrameMemoryPlace::kExternal;
 };
 
 struct DevicePreset {
@@ -76,6 +85,11 @@ struct DevicePreset {
   // Present: the workers path-trace v2 worlds (path_kernel.h) and accumulate them in frame memory; absent: the
   // mirror model. v1 words are normal-shaded either way (the board's wire carries no material).
   std::optional<DevicePath> path;
+  // A measurement option of the model, not of the hardware: the workers trace their late pixels too, so that each
+  // line's demand (LineResult::demand_cycles, FrameStats::worst_line_cycles) is exact. Late pixels stay black and
+  // their colours never reach the line buffer or frame memory, so colours, late counts and frame memory are
+  // bit-identical either way; the model pays for the late pixels' work (and PathCounters count it).
+  bool trace_late_pixels = false;
 
   int frac_bits() const { return x.frac_bits; }  // the same for x, y, z and radius
   // Cycles a pixel with `bounces` reflections keeps its worker from starting the next pixel, with

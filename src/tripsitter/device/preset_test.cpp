@@ -1,5 +1,7 @@
 #include <tripsitter/device/preset.h>
 
+#include <string>
+
 #include <gtest/gtest.h>
 
 namespace tripsitter::device {
@@ -70,6 +72,20 @@ TEST(Preset, ValidateNamesTheProblem) {
   EXPECT_TRUE(p.validate().has_value());
   p.max_bounces = core::kMaxBounces;
   EXPECT_FALSE(p.validate().has_value());
+}
+
+// The shipped presets model the hardware: late pixels untraced, the path preset's frame memory in external SRAM.
+TEST(Preset, ShippedPresetsTraceNoLatePixelsAndKeepFrameMemoryOutside) {
+  for (const std::string& name : preset_names()) {
+    const DevicePreset p = *preset_by_name(name);
+    EXPECT_FALSE(p.trace_late_pixels) << name;
+    if (p.path) {
+      EXPECT_EQ(p.path->frame_memory, FrameMemoryPlace::kExternal) << name;
+    }
+    DevicePreset traced = p;
+    traced.trace_late_pixels = true;
+    EXPECT_FALSE(traced.validate().has_value()) << name;
+  }
 }
 
 }  // namespace

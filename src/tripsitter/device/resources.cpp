@@ -1,6 +1,11 @@
 #include <tripsitter/device/resources.h>
 
 #include <algorithm>
+#include <array>
+#include <limits>
+#include <utility>
+
+#include <tripsitter/core/screen.h>
 
 namespace tripsitter::device {
 namespace {
@@ -10,6 +15,31 @@ constexpr int ceil_div(int a, int b) { return (a + b - 1) / b; }
 Block block(std::string name, std::vector<std::pair<std::pair<int, int>, int>> multiplies, int additions,
             int square_roots = 0, int divisions = 0) {
   return {std::move(name), std::move(multiplies), additions, square_roots, divisions};
+}
+
+// The memories of the design in block RAM (resources.h lists them and their widths).
+std::vector<BramMemory> bram_memories(const DevicePreset& p) {
+  std::vector<BramMemory> out;
+  const auto memory = [&](std::string name, std::int64_t depth, int width) {
+    out.push_back({std::move(name), depth, width, ramb18_count(depth, width)});
+  };
+  for (const char* which : {"line buffer (front)", "line buffer (back)"}) memory(which, kLineWidth, 12);
+  int sphere_bits = p.x.total_bits + p.y.total_bits + p.z.total_bits + p.radius.total_bits;
+  if (p.path) {
+    sphere_bits += 2 + 3 * 8 + 16 + 16;  // material, albedo, fuzz, index of refraction (u4.12)
+  } else if (p.max_bounces > 0) {
+    sphere_bits += 1 + 3 * 8;  // metal, albedo
+  }
+  for (const char* which : {"scene memory (front)", "scene memory (back)"}) memory(which, p.max_spheres, sphere_bits);
+  if (p.path) {
+    memory("reciprocal table (display)", 256, 19);
+    memory("sRGB table (display)", 512, 8);
+    memory("reciprocal square-root table (normalise)", 192, 17);
+    memory("quarter-wave sine table (random unit vector)", 1025, 15);
+    if (p.path->frame_memory == FrameMemoryPlace::kBlockRam)
+      memory("frame memory", std::int64_t{core::kScreenWidth} * core::kScreenHeight, 64);
+  }
+  return out;
 }
 
 // Adds `times` uses of b to ops.
@@ -26,6 +56,15 @@ void add(Operations& ops, const Block& b, double times) {
 
 int dsp_slices(int a_bits, int b_bits) {
   return std::min(ceil_div(a_bits, 24) * ceil_div(b_bits, 17), ceil_div(b_bits, 24) * ceil_div(a_bits, 17));
+}
+
+int ramb18_count(std::int64_t depth, int width) {
+  if (depth <= 0 || width <= 0) return 0;
+  constexpr std::array<std::pair<std::int64_t, std::int64_t>, 6> kShapes{
+      {{16384, 1}, {8192, 2}, {4096, 4}, {2048, 9}, {1024, 18}, {512, 36}}};
+  std::int64_t best = std::numeric_limits<std::int64_t>::max();
+  for (const auto& [d, w] : kShapes) best = std::min(best, ((width + w - 1) / w) * ((depth + d - 1) / d));
+  return static_cast<int>(best);
 }
 
 int Block::dsp() const {
@@ -89,11 +128,16 @@ Resources resources(const DevicePreset& p) {
       out.dsp_shared += b->dsp();
     out.frame_memory_bits = std::int64_t{64} * core::kScreenWidth * core::kScreenHeight;
     out.frame_memory_in_bram = out.frame_memory_bits <= kBoardBramBits;
-    out.frame_memory_bits_per_cycle = 2.0 * 64 * kLineWidth / kLineCycles;
+    if (p.path->frame_memory == FrameMemoryPlace::kExternal)
+      out.frame_memory_bits_per_cycle = 2.0 * 64 * kLineWidth / kLineCycles;
   } else if (p.max_bounces > 0) {
     out.dsp_per_worker += w.reflect.dsp();
   }
   out.workers_fitting = std::max(0, (kBoardDsp - out.dsp_shared) / out.dsp_per_worker);
+  out.memories = bram_memories(p);
+  for (const BramMemory& m : out.memories) out.bram18 += m.ramb18;
+  out.bram_bits = std::int64_t{out.bram18} * kRamb18Bits;
+  out.bram_fits = out.bram_bits <= kBoardBramBits;
   return out;
 }
 
@@ -134,6 +178,19 @@ Operations path_operations_per_pixel(const DevicePreset& p, const PathCounters& 
   }
   // Every pixel accumulates and displays once per frame.
   add(ops, w.accumulate, 1.0);
+  return ops;
+}
+
+Operations mirror_operations_per_pixel(const DevicePreset& p, std::int64_t spheres, std::uint64_t reflections,
+                                       std::uint64_t pixels) {
+  if (pixels == 0) return {};
+  const WorkerBlocks w = worker_blocks(p);
+  const double per = 1.0 / static_cast<double>(pixels);
+  const double passes = static_cast<double>(pixels + reflections) * per;  // 1 + the reflections, on average
+  Operations ops;
+  add(ops, w.ray_setup, passes);
+  add(ops, w.sphere_test, passes * static_cast<double>(spheres));
+  add(ops, w.reflect, static_cast<double>(reflections) * per);
   return ops;
 }
 
