@@ -1,4 +1,5 @@
-// PNG through libpng's simplified API (png_image), which reports errors in the struct instead of longjmp.
+// PNG through libpng's simplified API (png_image), which reports errors in the struct instead of longjmp. Files and
+// in-memory PNGs come from one encoder (encode below): write_png writes its bytes beside the file and renames.
 #include <png.h>
 #include <tripsitter/display/png.h>
 
@@ -41,35 +42,54 @@ std::FILE* create_temp_beside(const std::string& path, std::string& tmp_path, in
   return nullptr;
 }
 
-}  // namespace
-
-core::Result<bool, IoError> write_png(const std::string& path, const core::Image444& image) {
-  if (image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
-    return error("cannot write PNG", path, "image is empty or its pixel count does not match its size");
-  return write_png(path, core::to_rgb8(image));
-}
-
-core::Result<bool, IoError> write_png(const std::string& path, const core::ImageRgb8& image) {
-  const char* kWhat = "cannot write PNG";
+// The one PNG encoder of write_png and encode_png: 8-bit RGB into `out`. Returns why it failed, or "" on success.
+std::string encode(const core::ImageRgb8& image, std::vector<std::uint8_t>& out) {
   if (image.width <= 0 || image.height <= 0 ||
       image.pixels.size() != 3 * static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height)) {
-    return error(kWhat, path, "image is empty or its pixel count does not match its size");
+    return "image is empty or its pixel count does not match its size";
   }
-
-  std::string tmp_path;
-  int err = 0;
-  std::FILE* f = create_temp_beside(path, tmp_path, err);
-  if (f == nullptr) return error(kWhat, path, "cannot create temporary file '" + tmp_path + "': " + errno_message(err));
-
   png_image png;
   std::memset(&png, 0, sizeof png);
   png.version = PNG_IMAGE_VERSION;
   png.width = static_cast<png_uint_32>(image.width);
   png.height = static_cast<png_uint_32>(image.height);
   png.format = PNG_FORMAT_RGB;
-  const bool written = png_image_write_to_stdio(&png, f, 0, image.pixels.data(), 0, nullptr) != 0;
+  // libpng's bound on the file's size: one pass of compression into a buffer that surely holds it.
+  png_alloc_size_t size = PNG_IMAGE_PNG_SIZE_MAX(png);
+  out.assign(static_cast<std::size_t>(size), 0);
+  const bool written = png_image_write_to_memory(&png, out.data(), &size, 0, image.pixels.data(), 0, nullptr) != 0;
   const std::string png_message = png.message;
   png_image_free(&png);
+  if (!written) {
+    out.clear();
+    return "libpng: " + png_message;
+  }
+  out.resize(static_cast<std::size_t>(size));
+  return "";
+}
+
+}  // namespace
+
+core::Result<std::vector<std::uint8_t>, IoError> encode_png(const core::ImageRgb8& image) {
+  std::vector<std::uint8_t> bytes;
+  const std::string reason = encode(image, bytes);
+  if (!reason.empty()) return IoError{"cannot encode PNG: " + reason};
+  return bytes;
+}
+
+core::Result<bool, IoError> write_png(const std::string& path, const core::ImageRgb8& image) {
+  const char* kWhat = "cannot write PNG";
+  std::vector<std::uint8_t> bytes;
+  if (std::string reason = encode(image, bytes); !reason.empty()) return error(kWhat, path, reason);
+
+  std::string tmp_path;
+  int err = 0;
+  std::FILE* f = create_temp_beside(path, tmp_path, err);
+  if (f == nullptr) return error(kWhat, path, "cannot create temporary file '" + tmp_path + "': " + errno_message(err));
+
+  errno = 0;
+  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+  const int write_errno = errno;
   const bool flushed = std::fflush(f) == 0 && std::ferror(f) == 0;
   const int flush_errno = errno;
   const bool closed = std::fclose(f) == 0;
@@ -77,7 +97,7 @@ core::Result<bool, IoError> write_png(const std::string& path, const core::Image
 
   std::string reason;
   if (!written) {
-    reason = "libpng: " + png_message;
+    reason = errno_message(write_errno);
   } else if (!flushed) {
     reason = errno_message(flush_errno);
   } else if (!closed) {
@@ -91,6 +111,12 @@ core::Result<bool, IoError> write_png(const std::string& path, const core::Image
   std::error_code ignored;
   std::filesystem::remove(tmp_path, ignored);
   return error(kWhat, path, reason);
+}
+
+core::Result<bool, IoError> write_png(const std::string& path, const core::Image444& image) {
+  if (image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
+    return error("cannot write PNG", path, "image is empty or its pixel count does not match its size");
+  return write_png(path, core::to_rgb8(image));
 }
 
 core::Result<core::Image444, IoError> read_png(const std::string& path) {

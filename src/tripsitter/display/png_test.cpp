@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 #include <vector>
@@ -193,6 +194,52 @@ TEST_F(PngTest, ReadErrorsNameThePath) {
   const auto r3 = read_png(cut);
   ASSERT_FALSE(r3.ok());
   EXPECT_NE(r3.error().message.find(cut), std::string::npos) << r3.error().message;
+}
+
+// encode_png's bytes decode (libpng, from memory) to the same 8-bit pixels, and are the bytes write_png writes.
+TEST_F(PngTest, EncodeRoundTripsAn8BitImageAndMatchesTheFile) {
+  for (const auto& [w, h] : {std::pair{160, 120}, std::pair{37, 23}, std::pair{1, 1}}) {
+    SCOPED_TRACE(::testing::Message() << w << "x" << h);
+    std::mt19937 rng(static_cast<std::uint32_t>(w * 7 + h));
+    std::uniform_int_distribution<int> byte(0, 255);
+    core::ImageRgb8 image(w, h);
+    for (auto& v : image.pixels) v = static_cast<std::uint8_t>(byte(rng));
+
+    const auto encoded = encode_png(image);
+    ASSERT_TRUE(encoded.ok()) << encoded.error().message;
+    const std::vector<std::uint8_t>& bytes = encoded.value();
+    ASSERT_GT(bytes.size(), 8u);
+    EXPECT_EQ(std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + 8),
+              (std::vector<std::uint8_t>{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}));
+
+    png_image png;
+    std::memset(&png, 0, sizeof png);
+    png.version = PNG_IMAGE_VERSION;
+    ASSERT_NE(png_image_begin_read_from_memory(&png, bytes.data(), bytes.size()), 0) << png.message;
+    EXPECT_EQ(png.width, static_cast<png_uint_32>(w));
+    EXPECT_EQ(png.height, static_cast<png_uint_32>(h));
+    png.format = PNG_FORMAT_RGB;
+    std::vector<std::uint8_t> decoded(PNG_IMAGE_SIZE(png));
+    ASSERT_NE(png_image_finish_read(&png, nullptr, decoded.data(), 0, nullptr), 0) << png.message;
+    EXPECT_EQ(decoded, image.pixels);
+
+    const std::string file = path("same.png");
+    ASSERT_TRUE(write_png(file, image).ok());
+    std::ifstream in(file, std::ios::binary);
+    const std::vector<std::uint8_t> on_disk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(on_disk, bytes) << "write_png and encode_png share one encoder";
+  }
+}
+
+TEST_F(PngTest, EncodeRejectsMalformedImages) {
+  core::ImageRgb8 empty;
+  core::ImageRgb8 inconsistent(4, 4);
+  inconsistent.pixels.pop_back();
+  for (const core::ImageRgb8* image : {&empty, &inconsistent}) {
+    const auto encoded = encode_png(*image);
+    ASSERT_FALSE(encoded.ok());
+    EXPECT_NE(encoded.error().message.find("cannot encode PNG"), std::string::npos) << encoded.error().message;
+  }
 }
 
 }  // namespace
