@@ -63,6 +63,19 @@ AccumulatedImage accumulated_image(const device::FrameMemory& memory) {
 
 int default_reference_spp(int device_spp) { return std::max(256, 4 * device_spp); }
 
+render::ImageRgbF device_path_reference(const Frame& frame, const device::DevicePreset& preset,
+                                        const PathComparisonSettings& settings) {
+  if (!preset.path) throw std::invalid_argument("device_path_reference: preset " + preset.name + " does not path-trace");
+  if (frame.scene_memory == nullptr)
+    throw std::invalid_argument("device_path_reference: the frame carries no scene memory (not an hw frame)");
+  render::DeviceViewSettings s;
+  s.spp = settings.reference_spp > 0 ? settings.reference_spp : default_reference_spp(frame.device.samples_per_pixel);
+  s.max_depth = preset.path->depth;
+  s.seed = settings.seed;
+  s.threads = settings.threads;
+  return render::render_device_view(scene_memory_spheres(*frame.scene_memory, preset.frac_bits()), s, settings.on_row);
+}
+
 PathComparison compare_device_path(const Frame& frame, const device::DevicePreset& preset,
                                    const PathComparisonSettings& settings) {
   if (!preset.path) throw std::invalid_argument("compare_device_path: preset " + preset.name + " does not path-trace");
@@ -83,12 +96,9 @@ PathComparison compare_device_path(const Frame& frame, const device::DevicePrese
   out.late_lines = frame.device.late_lines;
   out.spheres = view.size();
 
-  render::DeviceViewSettings s;
-  s.spp = out.reference_spp;
-  s.max_depth = out.depth;
-  s.seed = settings.seed;
-  s.threads = settings.threads;
-  const render::ImageRgbF reference = render::render_device_view(view, s, settings.on_row);
+  const render::ImageRgbF rendered = settings.reference != nullptr ? render::ImageRgbF{}
+                                                                   : device_path_reference(frame, preset, settings);
+  const render::ImageRgbF& reference = settings.reference != nullptr ? *settings.reference : rendered;
 
   // Each part's pixels with samples, in both images, as one row each: compare_linear over them alone. Part 0 is
   // every pixel, 1 the sky, 2 + t the spheres of material type t met first by the camera ray.

@@ -44,6 +44,9 @@ struct PathComparisonSettings {
   std::uint64_t seed = 1;  // the reference's
   int threads = 0;         // the reference's (0: every core)
   std::function<void(int row)> on_row;  // the reference's progress, from its worker threads
+  // The reference rendered already (device_path_reference of a frame of the same world, with the same settings), for callers
+  // that compare many frames of one world; null: rendered here.
+  const render::ImageRgbF* reference = nullptr;
 };
 
 // The figures over a subset of the pixels with samples.
@@ -71,6 +74,11 @@ struct PathComparison {
 
 // The default reference: max(256, 4 x device_spp) samples per pixel.
 int default_reference_spp(int device_spp);
+
+// The float path tracer's picture compare_device_path compares the frame with: render_device_view of the world in
+// its scene memory at settings.reference_spp (0: the default for the frame's samples) and the preset's depth.
+render::ImageRgbF device_path_reference(const Frame& frame, const device::DevicePreset& preset,
+                                        const PathComparisonSettings& settings);
 
 // Compares an hw frame of a path-tracing preset (frame.frame_memory set; the frame's world in frame.scene_memory)
 // with render_device_view of its scene memory at settings.reference_spp samples per pixel and the preset's depth.
