@@ -14,10 +14,12 @@ esac
 
 packages=(g++ cmake make pkg-config libpng-dev nlohmann-json3-dev libcli11-dev libsdl2-dev libsdl2-ttf-dev
           fonts-dejavu-core libgtest-dev libbenchmark-dev
+          libjs-chart.js              # explore's report inlines Chart.js
           libembree-dev               # optional: bench compares primary rays with Embree
           libopenmpi-dev openmpi-bin  # optional: render --mode path under mpirun
 )
-[ "$job" = test ] && packages+=(clang-14 libclang-rt-14-dev)  # the libFuzzer targets (scripts/fuzz.sh)
+# the libFuzzer targets (scripts/fuzz.sh); the headless browser that looks at explore's report
+[ "$job" = test ] && packages+=(clang-14 libclang-rt-14-dev chromium)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -48,6 +48,7 @@ IncludeRules include_rules() {
   };
   code["frontend"] = code["modes"];
   code["frontend"].insert("modes");
+  code["explore"] = code["frontend"];
   std::set<std::string> every_block;
   for (const auto& [block, _] : code) every_block.insert(block);
   code["cmd"] = every_block;
