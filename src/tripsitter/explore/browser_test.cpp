@@ -19,8 +19,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -32,6 +32,8 @@
 #include <tripsitter/core/image.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/explore/report.h>
+
+#include "html_test_util.h"
 
 extern char** environ;
 
@@ -282,21 +284,19 @@ TEST_F(ReportInABrowser, DrawsEveryChartAndShowsAPicture) {
   const Outcome dom = run(args, dir_, "dom");
   ASSERT_FALSE(dom.timed_out) << "Chromium took longer than " << kTimeout.count() << " s\n" << dom.err;
   ASSERT_EQ(dom.exit_code, 0) << dom.err;
-  std::smatch body;
-  ASSERT_TRUE(std::regex_search(dom.out, body, std::regex("<body[^>]*>"))) << dom.out.substr(0, 2000) << dom.err;
-  const std::string tag = body.str();
+  const std::string tag = test::first_tag(dom.out, "<body");
+  ASSERT_FALSE(tag.empty()) << dom.out.substr(0, 2000) << dom.err;
   EXPECT_EQ(tag.find("data-error"), std::string::npos) << tag;
   EXPECT_NE(tag.find("data-ready=\"1\""), std::string::npos) << tag << "\n" << dom.err;
-  std::smatch m;
-  ASSERT_TRUE(std::regex_search(tag, m, std::regex("data-charts-expected=\"(\\d+)\""))) << tag;
-  const int expected = std::stoi(m[1].str());
-  ASSERT_TRUE(std::regex_search(tag, m, std::regex("data-charts-drawn=\"(\\d+)\""))) << tag;
-  const int drawn = std::stoi(m[1].str());
+  const std::optional<int> expected_count = test::number_attribute(tag, "data-charts-expected");
+  const std::optional<int> drawn_count = test::number_attribute(tag, "data-charts-drawn");
+  ASSERT_TRUE(expected_count && drawn_count) << tag;
+  const int expected = *expected_count, drawn = *drawn_count;
   // Two scenes' late lines, error for mirror and path, fps, fps against the SPI clock, and three Pareto fronts (2
   // scenes mirror, 1 path).
   EXPECT_EQ(expected, 9);
   EXPECT_EQ(drawn, expected);
-  EXPECT_TRUE(std::regex_search(dom.out, std::regex("id=\"point-19\""))) << "the table of all points";
+  EXPECT_NE(dom.out.find("id=\"point-19\""), std::string::npos) << "the table of all points";
   // Every element the page has, the script's included: src and href are data: URLs or #anchors. (Chart.js's text
   // is skipped: a script's content is not markup.)
   std::string markup = dom.out;
@@ -305,12 +305,10 @@ TEST_F(ReportInABrowser, DrawsEveryChartAndShowsAPicture) {
     ASSERT_NE(close, std::string::npos);
     markup.erase(open, close + 9 - open);
   }
-  const std::regex attribute(R"re(\s(src|href)="([^"]*)")re");
   int images = 0, anchors = 0;
-  for (auto it = std::sregex_iterator(markup.begin(), markup.end(), attribute); it != std::sregex_iterator(); ++it) {
-    const std::string value = (*it)[2].str();
-    EXPECT_TRUE(value.rfind("data:image/png;base64,", 0) == 0 || value.rfind("#", 0) == 0) << value.substr(0, 80);
-    ++((*it)[1].str() == "src" ? images : anchors);
+  for (const test::Attribute& a : test::link_attributes(markup)) {
+    EXPECT_TRUE(a.value.rfind("data:image/png;base64,", 0) == 0 || a.value.rfind("#", 0) == 0) << a.value.substr(0, 80);
+    ++(a.name == "src" ? images : anchors);
   }
   EXPECT_EQ(images, 3) << "the three thumbnails";
   EXPECT_GE(anchors, 12) << "navigation, and links to points from the tables and frames";

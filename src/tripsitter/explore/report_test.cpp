@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,6 +18,8 @@
 #include <tripsitter/core/image.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/explore/report.h>
+
+#include "html_test_util.h"
 
 namespace tripsitter::explore {
 namespace embedded {
@@ -307,17 +308,15 @@ TEST_F(ReportTest, ThePageLoadsNothingFromElsewhere) {
     ASSERT_NE(close, std::string::npos);
     at = close + 9;
   }
-  const std::regex attribute(R"re((src|href)\s*=\s*("([^"]*)"|'([^']*)'|([^\s>]+)))re", std::regex::icase);
   int links = 0;
-  for (auto it = std::sregex_iterator(markup.begin(), markup.end(), attribute); it != std::sregex_iterator(); ++it) {
-    const std::string value = (*it)[3].matched ? (*it)[3].str() : (*it)[4].matched ? (*it)[4].str() : (*it)[5].str();
-    EXPECT_TRUE(value.rfind("data:", 0) == 0 || value.rfind("#", 0) == 0) << (*it)[0].str();
+  for (const test::Attribute& a : test::link_attributes(markup)) {
+    EXPECT_TRUE(a.value.rfind("data:", 0) == 0 || a.value.rfind("#", 0) == 0) << a.text;
     ++links;
   }
   EXPECT_GE(links, 5) << "the navigation's #anchors";
 
   const std::string text = lower(without_chart);
-  EXPECT_FALSE(std::regex_search(text, std::regex(R"(\burl\s*\()"))) << "no url() in the style";
+  EXPECT_FALSE(test::has_css_url(text)) << "no url() in the style";
   EXPECT_EQ(text.find("@import"), std::string::npos);
   for (const char* scheme : {"http:", "https:", "ftp:", "file:", "ws:", "wss:"}) {
     EXPECT_EQ(text.find(scheme), std::string::npos) << scheme;
