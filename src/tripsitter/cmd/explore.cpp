@@ -69,7 +69,8 @@ int run_explore(const ExploreOptions& o) {
   sigemptyset(&sa.sa_mask);
   struct sigaction previous {};
   sigaction(SIGINT, &sa, &previous);
-  std::cerr << "explore: " << configs.size() << " points over " << scene_names.size() << " scenes ("
+  std::cerr << "explore: " << configs.size() << " points over " << scene_names.size()
+            << (scene_names.size() == 1 ? " scene (" : " scenes (")
             << join_lines(scene_names) << "), " << core::thread_count(o.threads)
             << " at once; Ctrl-C stops and keeps the points finished" << std::endl;
 
