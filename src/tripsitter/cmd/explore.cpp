@@ -33,7 +33,7 @@ struct ExploreOptions {
   int reference_spp = 64;
   std::uint64_t seed = 1;
   bool quiet = false;
-  std::string command;  // as typed, for the report
+  std::string command;  // the command with its scenes, sweeps and output, for the report
 };
 
 std::atomic<bool> g_interrupted{false};

@@ -1,16 +1,14 @@
 // PNG through libpng's simplified API (png_image), which reports errors in the struct instead of longjmp. Files and
-// in-memory PNGs come from one encoder (encode below): write_png writes its bytes beside the file and renames.
+// in-memory PNGs come from one encoder (encode below): write_png writes its bytes with
+// write_file_beside_and_rename (io.h).
 #include <png.h>
 #include <tripsitter/display/png.h>
 
-#include <cerrno>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <random>
-#include <system_error>
+#include <span>
 #include <vector>
 
 namespace tripsitter::display {
@@ -21,25 +19,6 @@ constexpr std::size_t kMaxReadPixels = std::size_t{1} << 28;
 
 IoError error(const std::string& what, const std::string& path, const std::string& reason) {
   return IoError{what + " '" + path + "': " + reason};
-}
-
-std::string errno_message(int e) { return std::generic_category().message(e); }
-
-// Creates a new file "<path>.tmp-XXXXXXXX" that did not exist before ("x": exclusive). On failure returns
-// nullptr with the errno of the last attempt in `err`.
-std::FILE* create_temp_beside(const std::string& path, std::string& tmp_path, int& err) {
-  std::random_device rd;
-  std::mt19937 gen(rd());
-  for (int attempt = 0; attempt < 16; ++attempt) {
-    char suffix[16];
-    std::snprintf(suffix, sizeof suffix, "%08x", static_cast<unsigned>(gen()));
-    tmp_path = path + ".tmp-" + suffix;
-    errno = 0;
-    if (std::FILE* f = std::fopen(tmp_path.c_str(), "wbx")) return f;
-    err = errno;
-    if (err != EEXIST) return nullptr;
-  }
-  return nullptr;
 }
 
 // The one PNG encoder of write_png and encode_png: 8-bit RGB into `out`. Returns why it failed, or "" on success.
@@ -81,36 +60,8 @@ core::Result<bool, IoError> write_png(const std::string& path, const core::Image
   const char* kWhat = "cannot write PNG";
   std::vector<std::uint8_t> bytes;
   if (std::string reason = encode(image, bytes); !reason.empty()) return error(kWhat, path, reason);
-
-  std::string tmp_path;
-  int err = 0;
-  std::FILE* f = create_temp_beside(path, tmp_path, err);
-  if (f == nullptr) return error(kWhat, path, "cannot create temporary file '" + tmp_path + "': " + errno_message(err));
-
-  errno = 0;
-  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  const int write_errno = errno;
-  const bool flushed = std::fflush(f) == 0 && std::ferror(f) == 0;
-  const int flush_errno = errno;
-  const bool closed = std::fclose(f) == 0;
-  const int close_errno = errno;
-
-  std::string reason;
-  if (!written) {
-    reason = errno_message(write_errno);
-  } else if (!flushed) {
-    reason = errno_message(flush_errno);
-  } else if (!closed) {
-    reason = errno_message(close_errno);
-  } else {
-    std::error_code ec;
-    std::filesystem::rename(tmp_path, path, ec);
-    if (!ec) return true;
-    reason = "cannot rename '" + tmp_path + "': " + ec.message();
-  }
-  std::error_code ignored;
-  std::filesystem::remove(tmp_path, ignored);
-  return error(kWhat, path, reason);
+  return write_file_beside_and_rename(
+      path, std::span<const char>(reinterpret_cast<const char*>(bytes.data()), bytes.size()), kWhat);
 }
 
 core::Result<bool, IoError> write_png(const std::string& path, const core::Image444& image) {

@@ -33,7 +33,7 @@
 #include <tripsitter/display/png.h>
 #include <tripsitter/explore/report.h>
 
-#include "html_test_util.h"
+#include "report_test_util.h"
 
 extern char** environ;
 
@@ -44,13 +44,6 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
 constexpr auto kTimeout = std::chrono::seconds(60);
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // The first of Chromium's usual names on PATH, or "".
 std::string find_chromium() {
@@ -127,8 +120,8 @@ Outcome run(const std::vector<std::string>& args, const fs::path& home, const st
   }
   ::kill(-pid, SIGKILL);  // Chromium's helpers, if any outlived it (the group is ours alone)
   if (!result.timed_out && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-  result.out = slurp(out);
-  result.err = slurp(err);
+  result.out = test::slurp(out);
+  result.err = test::slurp(err);
   return result;
 }
 
@@ -233,18 +226,8 @@ Report synthetic_report() {
   return r;
 }
 
-class ReportInABrowser : public ::testing::Test {
+class ReportInABrowser : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    std::random_device rd;
-    dir_ = fs::temp_directory_path() / ("tripsitter_browser_test_" + std::to_string(rd()) + std::to_string(rd()));
-    ASSERT_TRUE(fs::create_directory(dir_)) << dir_;
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
   std::vector<std::string> chromium_args(const std::string& chromium, const std::string& profile) const {
     return {chromium,
             "--headless",
@@ -262,8 +245,6 @@ class ReportInABrowser : public ::testing::Test {
             "--user-data-dir=" + (dir_ / profile).string(),
             "--virtual-time-budget=5000"};
   }
-
-  fs::path dir_;
 };
 
 TEST_F(ReportInABrowser, DrawsEveryChartAndShowsAPicture) {

@@ -1,10 +1,7 @@
 #include <tripsitter/explore/report.h>
 
 #include <cctype>
-#include <cerrno>
-#include <cstdio>
 #include <map>
-#include <random>
 #include <system_error>
 
 #include <tripsitter/device/resources.h>
@@ -24,53 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-display::IoError error(const fs::path& path, const std::string& reason) {
-  return display::IoError{"cannot write report file '" + path.string() + "': " + reason};
-}
-
-// Writes `text` to a new file beside `path` ("<path>.tmp-XXXXXXXX", exclusive) and renames it onto `path`, so
-// `path` is either its old self or the whole new text, and no temporary file stays behind.
-core::Result<bool, display::IoError> write_beside_and_rename(const fs::path& path, const std::string& text) {
-  std::random_device rd;
-  std::mt19937 gen(rd());
-  std::string tmp;
-  std::FILE* f = nullptr;
-  int err = 0;
-  for (int attempt = 0; attempt < 16 && f == nullptr; ++attempt) {
-    char suffix[16];
-    std::snprintf(suffix, sizeof suffix, "%08x", static_cast<unsigned>(gen()));
-    tmp = path.string() + ".tmp-" + suffix;
-    errno = 0;
-    f = std::fopen(tmp.c_str(), "wbx");
-    err = errno;
-    if (f == nullptr && err != EEXIST) break;
-  }
-  if (f == nullptr) {
-    return error(path, "cannot create temporary file '" + tmp + "': " + std::generic_category().message(err));
-  }
-  errno = 0;
-  const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  const bool flushed = std::fflush(f) == 0 && std::ferror(f) == 0;
-  const int write_errno = errno;
-  const bool closed = std::fclose(f) == 0;
-  const int close_errno = errno;
-
-  std::string reason;
-  if (!written || !flushed) {
-    reason = std::generic_category().message(write_errno);
-  } else if (!closed) {
-    reason = std::generic_category().message(close_errno);
-  } else {
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (!ec) return true;
-    reason = "cannot rename '" + tmp + "': " + ec.message();
-  }
-  std::error_code ignored;
-  fs::remove(tmp, ignored);
-  return error(path, reason);
-}
 
 // JSON text that can sit inside a <script> element: '<', '>' and '&' (which occur only inside strings) become
 // \u escapes, so no scene name or caption can close the element ("</script>") or open an HTML comment in it.
@@ -267,12 +217,15 @@ core::Result<bool, display::IoError> write_report(const fs::path& dir, const Rep
   doc["points"] = std::move(points);
   const std::string json = doc.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
 
+  // Each file beside its name, then renamed: each is its old self or the whole new text.
+  const std::string page = report_page(report);
   for (const auto& [name, text] : {std::pair<const char*, const std::string&>{"points.csv", csv},
-                                   std::pair<const char*, const std::string&>{"points.json", json}}) {
-    auto written = write_beside_and_rename(dir / name, text);
+                                   std::pair<const char*, const std::string&>{"points.json", json},
+                                   std::pair<const char*, const std::string&>{"index.html", page}}) {
+    auto written = display::write_file_beside_and_rename((dir / name).string(), text, "cannot write report file");
     if (!written.ok()) return written.error();
   }
-  return write_beside_and_rename(dir / "index.html", report_page(report));
+  return true;
 }
 
 }  // namespace tripsitter::explore

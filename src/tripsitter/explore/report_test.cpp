@@ -19,7 +19,7 @@
 #include <tripsitter/display/png.h>
 #include <tripsitter/explore/report.h>
 
-#include "html_test_util.h"
+#include "report_test_util.h"
 
 namespace tripsitter::explore {
 namespace embedded {
@@ -30,13 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;
@@ -177,30 +170,14 @@ std::size_t count(const std::string& text, const std::string& what) {
   return n;
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-class ReportTest : public ::testing::Test {
+class ReportTest : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    std::random_device rd;
-    root_ = fs::temp_directory_path() / ("tripsitter_report_test_" + std::to_string(rd()) + std::to_string(rd()));
-    ASSERT_TRUE(fs::create_directory(root_)) << root_;
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(root_, ec);
-  }
   std::vector<std::string> entries(const fs::path& dir) const {
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
     return names;
   }
-
-  fs::path root_;
 };
 
 TEST_F(ReportTest, Base64IsRfc4648) {
@@ -217,14 +194,14 @@ TEST_F(ReportTest, Base64IsRfc4648) {
 
 TEST_F(ReportTest, WritesTheThreeFilesIntoANewDirectory) {
   const Report report = sample_report();
-  const fs::path dir = root_ / "out" / "report";
+  const fs::path dir = dir_ / "out" / "report";
   const auto written = write_report(dir, report);
   ASSERT_TRUE(written.ok()) << written.error().message;
   EXPECT_EQ(entries(dir), (std::vector<std::string>{"index.html", "points.csv", "points.json"}))
       << "no temporary file stays behind";
 
   // points.csv: the header, then one row per point whose fields read back.
-  const std::vector<std::string> csv = lines_of(slurp(dir / "points.csv"));
+  const std::vector<std::string> csv = lines_of(test::slurp(dir / "points.csv"));
   ASSERT_EQ(csv.size(), report.points.size() + 1);
   EXPECT_EQ(csv[0], csv_header());
   const std::vector<std::string> header = csv_fields(csv[0]);
@@ -246,7 +223,7 @@ TEST_F(ReportTest, WritesTheThreeFilesIntoANewDirectory) {
   }
 
   // points.json: sweep, summary, columns and points as given.
-  const Json doc = Json::parse(slurp(dir / "points.json"));
+  const Json doc = Json::parse(test::slurp(dir / "points.json"));
   EXPECT_EQ(doc["sweep"], report.sweep);
   EXPECT_EQ(doc["summary"], report.summary);
   ASSERT_EQ(doc["columns"].size(), columns().size());
@@ -257,7 +234,7 @@ TEST_F(ReportTest, WritesTheThreeFilesIntoANewDirectory) {
   for (std::size_t i = 0; i < report.points.size(); ++i) EXPECT_EQ(doc["points"][i], to_json(report.points[i]));
 
   // index.html: Chart.js verbatim (its license comment included), the points, the thumbnails.
-  const std::string page = slurp(dir / "index.html");
+  const std::string page = test::slurp(dir / "index.html");
   EXPECT_EQ(page, report_page(report));
   const std::string chart = embedded::chart_js();
   ASSERT_GT(chart.size(), 100'000u);
@@ -301,10 +278,10 @@ TEST_F(ReportTest, ThePageLoadsNothingFromElsewhere) {
   // The markup alone: each script's text removed.
   std::string markup;
   for (std::size_t at = 0;;) {
-    const std::size_t open = lower(page).find("<script", at);
+    const std::size_t open = test::lowered(page).find("<script", at);
     markup += page.substr(at, open == std::string::npos ? std::string::npos : open - at);
     if (open == std::string::npos) break;
-    const std::size_t close = lower(page).find("</script>", open);
+    const std::size_t close = test::lowered(page).find("</script>", open);
     ASSERT_NE(close, std::string::npos);
     at = close + 9;
   }
@@ -315,7 +292,7 @@ TEST_F(ReportTest, ThePageLoadsNothingFromElsewhere) {
   }
   EXPECT_GE(links, 5) << "the navigation's #anchors";
 
-  const std::string text = lower(without_chart);
+  const std::string text = test::lowered(without_chart);
   EXPECT_FALSE(test::has_css_url(text)) << "no url() in the style";
   EXPECT_EQ(text.find("@import"), std::string::npos);
   for (const char* scheme : {"http:", "https:", "ftp:", "file:", "ws:", "wss:"}) {
@@ -335,21 +312,21 @@ TEST_F(ReportTest, ASceneNamedLikeMarkupStaysInsideTheData) {
   const std::string nasty = "scenes/</script><script>alert(1)</script><!--<b>&amp;\".json";
   report.points[0].config.scene = nasty;
   report.summary["thumbnails"][0]["caption"] = "caption </SCRIPT> too";
-  const auto written = write_report(root_, report);
+  const auto written = write_report(dir_, report);
   ASSERT_TRUE(written.ok()) << written.error().message;
-  const std::string page = slurp(root_ / "index.html");
+  const std::string page = test::slurp(dir_ / "index.html");
 
   // Three script elements (Chart.js, the data, the page's script) and nothing else closes or opens one.
-  EXPECT_EQ(count(lower(page), "<script"), 3u);
-  EXPECT_EQ(count(lower(page), "</script"), 3u);
+  EXPECT_EQ(count(test::lowered(page), "<script"), 3u);
+  EXPECT_EQ(count(test::lowered(page), "</script"), 3u);
   EXPECT_EQ(page.find("<!--<b>"), std::string::npos);
   const Json data = page_data(page);
   EXPECT_EQ(data["rows"][0][1], nasty);
   EXPECT_EQ(data["thumbnails"][0]["caption"], "caption </SCRIPT> too");
 
   // Scripts get the name as it is.
-  EXPECT_EQ(Json::parse(slurp(root_ / "points.json"))["points"][0]["scene"], nasty);
-  const std::vector<std::string> csv = lines_of(slurp(root_ / "points.csv"));
+  EXPECT_EQ(Json::parse(test::slurp(dir_ / "points.json"))["points"][0]["scene"], nasty);
+  const std::vector<std::string> csv = lines_of(test::slurp(dir_ / "points.csv"));
   EXPECT_EQ(csv_fields(csv[1])[1], nasty);
 }
 
@@ -358,37 +335,37 @@ TEST_F(ReportTest, WritesWithoutSummaryOrSweepAndWithNoPoints) {
   Report report = sample_report();
   report.summary = nullptr;
   report.sweep = nullptr;
-  ASSERT_TRUE(write_report(root_ / "a", report).ok());
-  const Json data = page_data(slurp(root_ / "a" / "index.html"));
+  ASSERT_TRUE(write_report(dir_ / "a", report).ok());
+  const Json data = page_data(test::slurp(dir_ / "a" / "index.html"));
   EXPECT_EQ(data["rows"].size(), report.points.size());
   EXPECT_TRUE(data["thumbnails"].empty());
   EXPECT_TRUE(data["summary"].is_object());
 
-  ASSERT_TRUE(write_report(root_ / "b", Report{}).ok());
-  EXPECT_EQ(lines_of(slurp(root_ / "b" / "points.csv")).size(), 1u);
-  EXPECT_TRUE(page_data(slurp(root_ / "b" / "index.html"))["rows"].empty());
+  ASSERT_TRUE(write_report(dir_ / "b", Report{}).ok());
+  EXPECT_EQ(lines_of(test::slurp(dir_ / "b" / "points.csv")).size(), 1u);
+  EXPECT_TRUE(page_data(test::slurp(dir_ / "b" / "index.html"))["rows"].empty());
 }
 
 TEST_F(ReportTest, RewritingReplacesTheFiles) {
   Report report = sample_report();
-  ASSERT_TRUE(write_report(root_, report).ok());
+  ASSERT_TRUE(write_report(dir_, report).ok());
   report.points.resize(2);
-  ASSERT_TRUE(write_report(root_, report).ok());
-  EXPECT_EQ(lines_of(slurp(root_ / "points.csv")).size(), 3u);
-  EXPECT_EQ(entries(root_), (std::vector<std::string>{"index.html", "points.csv", "points.json"}));
+  ASSERT_TRUE(write_report(dir_, report).ok());
+  EXPECT_EQ(lines_of(test::slurp(dir_ / "points.csv")).size(), 3u);
+  EXPECT_EQ(entries(dir_), (std::vector<std::string>{"index.html", "points.csv", "points.json"}));
 }
 
 // DIR is a regular file: an error naming it, and nothing written or changed.
 TEST_F(ReportTest, ADirectoryThatIsAFileIsAnErrorAndLeavesNothing) {
-  const fs::path file = root_ / "taken";
+  const fs::path file = dir_ / "taken";
   std::ofstream(file) << "not a directory";
   for (const fs::path& dir : {file, file / "below"}) {
     SCOPED_TRACE(dir.string());
     const auto written = write_report(dir, sample_report());
     ASSERT_FALSE(written.ok());
     EXPECT_NE(written.error().message.find(dir.string()), std::string::npos) << written.error().message;
-    EXPECT_EQ(entries(root_), std::vector<std::string>{"taken"});
-    EXPECT_EQ(slurp(file), "not a directory");
+    EXPECT_EQ(entries(dir_), std::vector<std::string>{"taken"});
+    EXPECT_EQ(test::slurp(file), "not a directory");
   }
 }
 

@@ -314,32 +314,46 @@ DeviceSetup setup_of(const Configuration& c) {
   return s;
 }
 
+namespace {
+
+// The preset parameter of a sweep, or null: a sweep that names none runs wide.
+const Sweep::Parameter* preset_parameter(const Sweep& sweep) {
+  for (const auto& p : sweep.parameters)
+    if (p.name == "preset") return &p;
+  return nullptr;
+}
+
+// Throws SweepError at a parameter of the path preset in a sweep of a mirror preset, or the other way round.
+void check_kinds(const Sweep& sweep) {
+  const Sweep::Parameter* preset = preset_parameter(sweep);
+  const std::vector<std::string> presets = preset != nullptr ? preset->values : std::vector<std::string>{"wide"};
+  for (const auto& p : sweep.parameters) {
+    const Applies applies = rule_named(p.name)->applies;
+    if (applies == Applies::kAny) continue;
+    for (const std::string& name : presets) {
+      const bool path = device::preset_by_name(name)->path.has_value();
+      if (path != (applies == Applies::kPath))
+        throw SweepError(sweep.spec, p.offset,
+                         p.name + " is a parameter of " + (path ? "the mirror presets" : "the path preset") +
+                             ", and this sweep runs preset " + name);
+    }
+  }
+}
+
+}  // namespace
+
 std::vector<Configuration> expand(const std::vector<Sweep>& sweeps, const std::vector<std::string>& scenes) {
+  for (const Sweep& sweep : sweeps) check_kinds(sweep);
   std::vector<Configuration> out;
   std::set<decltype(key_of(std::declval<const Configuration&>()))> seen;
   for (const auto& scene : scenes) {
     for (const Sweep& sweep : sweeps) {
       // The preset of each combination first: it sets the values the other parameters change.
-      const auto preset_at = std::find_if(sweep.parameters.begin(), sweep.parameters.end(),
-                                          [](const auto& p) { return p.name == "preset"; });
-      const std::vector<std::string> presets =
-          preset_at != sweep.parameters.end() ? preset_at->values : std::vector<std::string>{"wide"};
-      for (const auto& p : sweep.parameters) {
-        const ParameterRule& rule = *rule_named(p.name);
-        if (rule.applies == Applies::kAny) continue;
-        for (std::size_t i = 0; i < presets.size(); ++i) {
-          const bool path = device::preset_by_name(presets[i])->path.has_value();
-          if (path != (rule.applies == Applies::kPath))
-            throw SweepError(sweep.spec, p.offset,
-                             p.name + " is a parameter of " + (path ? "the mirror presets" : "the path preset") +
-                                 ", and this sweep runs preset " + presets[i]);
-        }
-      }
+      const Sweep::Parameter* preset = preset_parameter(sweep);
+      const std::size_t preset_k = preset != nullptr ? static_cast<std::size_t>(preset - sweep.parameters.data()) : 0;
       std::vector<std::size_t> choice(sweep.parameters.size(), 0);
       for (bool more = true; more;) {
-        Configuration c = preset_configuration(scene, preset_at != sweep.parameters.end()
-                                                 ? preset_at->values[choice[static_cast<std::size_t>(preset_at - sweep.parameters.begin())]]
-                                                 : std::string("wide"));
+        Configuration c = preset_configuration(scene, preset != nullptr ? preset->values[choice[preset_k]] : "wide");
         for (std::size_t k = 0; k < sweep.parameters.size(); ++k)
           rule_named(sweep.parameters[k].name)->set(c, sweep.parameters[k].values[choice[k]]);
         if (auto why = setup_of(c).preset.validate()) {

@@ -1,15 +1,47 @@
-// What the report's tests read out of HTML: the src and href attributes of markup, a number-valued attribute of a
-// tag, and CSS url(...). Plain string scanning: std::regex trips GCC 12's -Wmaybe-uninitialized under the
-// sanitizer presets.
+// What the report's tests share (report_test.cpp, browser_test.cpp): a fresh directory per test, reading a file
+// whole, and what they read out of HTML: the src and href attributes of markup, a number-valued attribute of a tag,
+// and CSS url(...). Plain string scanning: std::regex trips GCC 12's -Wmaybe-uninitialized under the sanitizer
+// presets.
 #pragma once
 
 #include <cctype>
 #include <cstddef>
+#include <filesystem>
+#include <fstream>
 #include <optional>
+#include <random>
+#include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 namespace tripsitter::explore::test {
+
+// Each test gets a fresh, empty directory, dir_, removed afterwards.
+class ScratchDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::random_device rd;
+    dir_ = std::filesystem::temp_directory_path() /
+           ("tripsitter_explore_test_" + std::to_string(rd()) + std::to_string(rd()));
+    ASSERT_TRUE(std::filesystem::create_directory(dir_)) << dir_;
+  }
+  void TearDown() override {
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+  }
+
+  std::filesystem::path dir_;
+};
+
+inline std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
 
 struct Attribute {
   std::string name;   // "src" or "href", in lower case
