@@ -8,7 +8,7 @@
 #include <tripsitter/board/board.h>
 #include <tripsitter/device/controller.h>
 #include <tripsitter/device/sqrt_unit.h>
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 #include <tripsitter/render/normal.h>
 #include <tripsitter/render/path_tracer.h>
 #include <tripsitter/render/primary.h>
@@ -90,7 +90,7 @@ void BM_DecodeV2(benchmark::State& state) {
   host::Host h(scene::random_spheres(static_cast<int>(state.range(0)), 1), board::formats_of(device::wide_preset()),
                link::WireVersion::kV2);
   const auto bytes = h.update().bytes;
-  for (auto _ : state) benchmark::DoNotOptimize(link::decode_v2_frame(bytes, 4096));
+  for (auto _ : state) benchmark::DoNotOptimize(link::decode_frame(link::WireVersion::kV2, bytes, 4096));
   state.SetBytesProcessed(state.iterations() * static_cast<std::int64_t>(bytes.size()));
 }
 BENCHMARK(BM_DecodeV2)->Arg(64)->Arg(4096);

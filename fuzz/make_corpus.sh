@@ -15,15 +15,21 @@ fi
 export ASAN_OPTIONS=detect_leaks=0   # a sanitizer build of the command is fine here
 
 out=fuzz/corpus
-mkdir -p "$out"/{wire_v1,wire_v2,receiver,scene_json,key_script}
+mkdir -p "$out"/{wire_v1,wire_v2,wire_v3,receiver,scene_json,key_script}
 # Inputs found by fuzzing and merged in (fuzz/README.md) are named by their SHA-1 and stay; the named seeds
 # are made again.
-find "$out" -type f ! -regex '.*/[0-9a-f]\{40\}' -delete
+find "$out" -regextype posix-extended -type f ! -regex '.*/[0-9a-f]{40}' -delete
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-# encode SCENE PRESET WIRE: the host's bytes for one world.
-encode() { "$bin" link encode --scene "$1" --preset "$2" --wire "$3" 2>/dev/null; }
+# encode SCENE PRESET WIRE [ARGS...]: the host's bytes for one world (more with --worlds), numbered as the link
+# numbers them; on v3 in session 1 unless ARGS say otherwise, so that the seeds are the same every time.
+encode() {
+  local scene=$1 preset=$2 wire=$3
+  shift 3
+  [ "$wire" = v3 ] && [[ " $* " != *" --session "* ]] && set -- --session 1 "$@"
+  "$bin" link encode --scene "$scene" --preset "$preset" --wire "$wire" "$@" 2>/dev/null
+}
 # bytes HEX...: raw bytes from hex pairs.
 bytes() { printf '%s' "$*" | xxd -r -p; }
 # tag NAME: a file-name-safe name for a scene.
@@ -34,6 +40,7 @@ scenes=(demo cluster field random-3 random-60 scenes/three_materials.json "$tmp/
 for s in "${scenes[@]}"; do
   for preset in wide board-2023; do
     encode "$s" "$preset" v2 > "$tmp/$(tag "$s")-$preset.v2"
+    encode "$s" "$preset" v3 > "$tmp/$(tag "$s")-$preset.v3"
     encode "$s" "$preset" v1 > "$tmp/$(tag "$s")-$preset.v1"
   done
 done
@@ -49,6 +56,19 @@ head -c 100 "$tmp/cluster-wide.v2" > "$out/wire_v2/stream-truncated"
 bytes 5453573202000000000000070000000000000000 > "$out/wire_v2/empty-world-without-crc"
 rm -f "$out"/wire_v2/field-* "$out"/wire_v2/random-60-board-2023
 
+# wire_v3: a few whole frames, and streams: several worlds of an orbit, damage, a host that restarts in the
+# middle of a world (its cut frame is dropped as truncated when the new frame's intact header arrives), and
+# a frame with an intact header of another inside its spheres (wire_v3_fuzz.cpp: nested_headers).
+for name in demo-wide cluster-wide cluster-board-2023 three_materials-wide empty-wide; do
+  cp "$tmp/$name.v3" "$out/wire_v3/$name"
+done
+encode random-3 wide v3 --worlds 3 > "$out/wire_v3/stream-three-worlds"
+{ bytes 0001545357; cat "$tmp/demo-wide.v3"; } > "$out/wire_v3/stream-garbage-then-frame"
+head -c 100 "$tmp/cluster-wide.v3" > "$out/wire_v3/stream-truncated"
+{ head -c 60 "$tmp/cluster-wide.v3"; encode demo wide v3 --session 2; } > "$out/wire_v3/stream-host-restarts-mid-world"
+bytes 545357330304000000000001000000010000000200000030904a7b855453573303040000000000020000000100000001 \
+      000000185f95c5610000000000000000000001400000000000001800dfc00a36 > "$out/wire_v3/nested-intact-header"
+
 # wire_v1: a control byte (transfer sizes, an odd one resets at a boundary), then the words.
 for f in "$tmp"/*.v1; do
   name=$(basename "$f" .v1)
@@ -58,7 +78,7 @@ done
 { bytes 07; cat "$tmp/cluster-board-2023.v1"; } > "$out/wire_v1/cluster-with-reset"
 { bytes 02; cat "$tmp/demo-board-2023.v1"; bytes 0102; } > "$out/wire_v1/demo-and-partial-word"
 
-# receiver: configuration (bit 0 v1, bit 1 board-2023, bits 2..3 unit 1/4/16/64), a count of transfer bytes
+# receiver: configuration (bit 0 v1, bit 1 board-2023, bits 2..3 unit 1/4/16/64, bit 5 v3), a count of transfer bytes
 # (bits 0..6 length in units, bit 7 a vertical blanking after it), the transfer bytes, then the link bytes.
 # receiver_seed NAME CONFIG TRANSFERS FILES...
 receiver_seed() {
@@ -76,6 +96,15 @@ receiver_seed v2-wrong-preset 00 "" "$tmp/cluster-board-2023.v2"
 receiver_seed v2-two-worlds-3-and-8-byte-transfers 00 "0388" "$tmp/random-3-wide.v2" "$tmp/cluster-wide.v2"
 receiver_seed v2-garbage-then-world 00 "1f" "$out/wire_v2/stream-garbage-then-frame"
 receiver_seed v2-empty-world 00 "" "$tmp/empty-wide.v2"
+receiver_seed v3-cluster-wide-7byte-transfers 20 07 "$tmp/cluster-wide.v3"
+receiver_seed v3-cluster-board-blanking 22 "90" "$tmp/cluster-board-2023.v3"
+# Worlds 1 to 3 of session 1, world 2 again (a replay), worlds 1 and 2 of session 2 (a restarted host), then
+# world 3 of session 1 (a session that has ended): 104 bytes a world.
+encode random-3 wide v3 --worlds 3 > "$tmp/s1.v3"
+encode random-3 wide v3 --worlds 2 --session 2 > "$tmp/s2.v3"
+receiver_seed v3-replays-and-a-restart 20 "3481" "$tmp/s1.v3" <(tail -c +105 "$tmp/s1.v3" | head -c 104) \
+    "$tmp/s2.v3" <(tail -c 104 "$tmp/s1.v3")
+receiver_seed v3-host-restarts-mid-world 20 "0a" "$out/wire_v3/stream-host-restarts-mid-world"
 receiver_seed v1-cluster-board 03 "88" "$tmp/cluster-board-2023.v1"
 receiver_seed v1-three-wide 01 "0583" "$tmp/three_materials-wide.v1"
 receiver_seed v1-demo-board 03 "" "$tmp/demo-board-2023.v1"

@@ -1,9 +1,10 @@
 // The device's receiver (device/receiver.h) fed arbitrary transfers, with vertical blankings in between.
 //
 // Input: a configuration byte, a count byte, that many transfer bytes, then the link bytes.
-//   configuration: bit 0 the wire (0 v2, 1 v1), bit 1 the preset (0 wide, 1 board-2023), bits 2..3 the
-//                  transfer length unit (1, 4, 16 or 64 bytes), bit 4 keep the v2 CRCs as they are (when
-//                  clear, the CRC of every frame with a consistent header is rewritten first: v2_repair.h);
+//   configuration: bit 0 the wire v1 (when clear: bit 5 chooses v3 over v2), bit 1 the preset (0 wide,
+//                  1 board-2023), bits 2..3 the transfer length unit (1, 4, 16 or 64 bytes), bit 4 keep the
+//                  frames' CRCs as they are (when clear, the CRCs of every frame with a consistent header, and on
+//                  v3 every header CRC, are rewritten first: frame_repair.h);
 //   count:         0..15 transfer bytes (count % 16); none sends the link bytes as one transfer;
 //   transfer byte: bits 0..6 the transfer's length in units (0 is an empty transfer), bit 7 a vertical
 //                  blanking (swap_if_pending) after it. The transfer bytes are used in turn, cyclically,
@@ -15,17 +16,20 @@
 //     exactly when ready() was low, and raises it;
 //   - a swapped-in scene memory is valid, holds at most the preset's spheres (one for v1), every centre and
 //     radius inside the preset's formats (radius > 0; a power of two for v1), known materials, ior > 0;
-//   - it is the latest world accepted, the same as a reference decode of the whole byte stream at once
-//     (link::V2StreamDecoder, or aligned v1 words) with the receiver's documented acceptance rules applied;
+//   - it is the latest world accepted by a reference: link::FrameStreamDecoder fed the same transfers (or
+//     aligned v1 words), with the receiver's documented acceptance rules and an independent model of its
+//     sequence rules applied (docs/link_format.md, "Sessions and sequence numbers");
 //   - a worker draws the last one without harm (no assertion, no overflow) at a few pixels: the corners,
 //     the centre and where the first spheres' centres project, with up to core::kMaxBounces mirror bounces
 //     (any world inside the formats must be drawable; docs/device.md bounds the intermediates);
-// and at the end: the counts of accepted, rejected, garbage and missing worlds (sequence numbers skipped
-// between accepted worlds; none on v1) match the reference, and every link byte is either in an accepted
-// world or counted as dropped.
+// and at the end: the counts of accepted, rejected, garbage, missing and replayed worlds and of sessions match
+// the reference, and every link byte is in an accepted world or counted as dropped (replays included), and
+// the bytes dropped are the reference's.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -34,11 +38,11 @@
 #include <tripsitter/device/receiver.h>
 #include <tripsitter/device/scene_memory.h>
 #include <tripsitter/link/wire_v1.h>
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 
 #include "check.h"
 #include "trace_pixels.h"
-#include "v2_repair.h"
+#include "frame_repair.h"
 
 namespace {
 
@@ -52,27 +56,84 @@ struct Reference {
   std::vector<std::size_t> accepted_bytes;
   std::uint64_t rejected = 0;
   std::uint64_t garbage_runs = 0;
-  std::uint64_t missing = 0;  // v2: sequence numbers skipped between accepted worlds
+  std::uint64_t missing = 0;         // sequence numbers skipped
+  std::uint64_t replayed = 0;        // v3: intact worlds refused by the sequence rules
+  std::uint64_t dropped_bytes = 0;   // in every report and every replay
+  std::uint64_t sessions = 0;
 };
 
-// The receiver's acceptance rule for v2 (receiver.h, docs/device.md): the preset's fractional bits, every
-// centre and radius inside the preset's formats.
-Reference reference_v2(std::span<const std::uint8_t> bytes, const device::DevicePreset& p) {
+// The receiver's sequence rules, written from docs/link_format.md apart from link::SequenceRules.
+class SequenceModel {
+ public:
+  static constexpr std::size_t kEndedSessions = 16;  // remembered
+
+  explicit SequenceModel(link::WireVersion wire) : v3_(wire == link::WireVersion::kV3) {}
+
+  // Whether an intact world is shown; adds what it skipped to ref.missing and a session it begins.
+  bool admit(std::uint32_t session, std::uint32_t sequence, Reference& ref) {
+    if (!v3_) {  // v2: every world is shown; only a step forward skips numbers
+      if (!last_) ++ref.sessions;
+      if (last_ && sequence > *last_) ref.missing += sequence - *last_ - 1;
+      last_ = sequence;
+      return true;
+    }
+    if (session_ == session) {
+      if (sequence <= *last_) return false;
+      ref.missing += sequence - *last_ - 1;
+      last_ = sequence;
+      return true;
+    }
+    if (std::find(ended_.begin(), ended_.end(), session) != ended_.end()) return false;
+    if (session_) {
+      ended_.push_back(*session_);
+      if (ended_.size() > kEndedSessions) ended_.pop_front();
+    }
+    ++ref.sessions;
+    ref.missing += sequence == 0 ? 0 : sequence - 1;  // a host numbers from 1
+    session_ = session;
+    last_ = sequence;
+    return true;
+  }
+
+ private:
+  bool v3_;
+  std::optional<std::uint32_t> session_;  // v3: the current session
+  std::optional<std::uint32_t> last_;     // the last number seen (of the current session)
+  std::deque<std::uint32_t> ended_;       // v3: the sessions that ended, oldest first
+};
+
+struct Transfer {
+  std::size_t bytes = 0;
+  bool blanking = false;  // a vertical blanking after it
+};
+
+// The receiver's acceptance rules for a framed wire (receiver.h, docs/device.md): the sequence rules for every
+// frame that arrived intact, then the preset's fractional bits and every centre and radius inside the preset's
+// formats. The decoder gets the receiver's transfers: on v3 a frame in which another intact header begins is
+// cut by it only while the decoder waits for its rest (wire_v3_fuzz.cpp).
+Reference reference_frames(link::WireVersion wire, std::span<const std::uint8_t> bytes, const device::DevicePreset& p,
+                           const std::vector<Transfer>& transfers) {
   Reference ref;
-  link::V2StreamDecoder decoder(
-      p.max_spheres,
+  SequenceModel sequence(wire);
+  link::FrameStreamDecoder decoder(
+      wire, p.max_spheres,
       {.on_frame =
            [&](link::World&& w) {
+             const std::size_t size = link::frame_bytes(wire, w.spheres.size());
+             if (!sequence.admit(w.session, w.sequence, ref)) {
+               ++ref.replayed;
+               ref.dropped_bytes += size;
+               return;
+             }
              bool ok = w.frac_bits == p.frac_bits();
              for (const link::WireSphere& s : w.spheres) {
                ok = ok && p.x.contains(s.x) && p.y.contains(s.y) && p.z.contains(s.z) && p.radius.contains(s.radius);
              }
              if (!ok) {
                ++ref.rejected;
+               ref.dropped_bytes += size;
                return;
              }
-             if (!ref.accepted.empty() && w.sequence > ref.accepted.back().sequence)
-               ref.missing += w.sequence - ref.accepted.back().sequence - 1;
              device::SceneMemory m;
              m.valid = true;
              m.sequence = w.sequence;
@@ -81,18 +142,24 @@ Reference reference_v2(std::span<const std::uint8_t> bytes, const device::Device
                m.surfaces.push_back({s.material, s.albedo, s.fuzz, s.ior});
              }
              ref.accepted.push_back(std::move(m));
-             ref.accepted_bytes.push_back(link::kV2HeaderBytes + w.spheres.size() * link::kV2SphereBytes +
-                                          link::kV2TrailerBytes);
+             ref.accepted_bytes.push_back(size);
            },
        .on_error =
-           [&](const link::V2Failure& f, std::size_t) {
-             if (f.error == link::V2Error::kBadMagic) {
+           [&](const link::FrameFailure& f, std::size_t dropped) {
+             ref.dropped_bytes += dropped;
+             if (f.error == link::FrameError::kBadMagic) {
                ++ref.garbage_runs;
+             } else if (f.intact && !sequence.admit(f.intact->session, f.intact->sequence, ref)) {
+               ++ref.replayed;
              } else {
                ++ref.rejected;
              }
            }});
-  decoder.push(bytes);
+  std::size_t at = 0;
+  for (const Transfer& t : transfers) {
+    decoder.push(bytes.subspan(at, t.bytes));
+    at += t.bytes;
+  }
   decoder.end_of_stream();
   return ref;
 }
@@ -112,6 +179,7 @@ Reference reference_v1(std::span<const std::uint8_t> bytes, const device::Device
     if (shift > 62 || !p.radius.contains(std::int64_t{1} << shift) || !p.x.contains(x) || !p.y.contains(y) ||
         !p.z.contains(z)) {
       ++ref.rejected;
+      ref.dropped_bytes += link::kV1WordBytes;
       continue;
     }
     device::SceneMemory m;
@@ -123,7 +191,10 @@ Reference reference_v1(std::span<const std::uint8_t> bytes, const device::Device
     ref.accepted.push_back(std::move(m));
     ref.accepted_bytes.push_back(link::kV1WordBytes);
   }
-  if (bytes.size() % link::kV1WordBytes != 0) ++ref.rejected;  // the partial word at the end of the stream
+  if (bytes.size() % link::kV1WordBytes != 0) {  // the partial word at the end of the stream
+    ++ref.rejected;
+    ref.dropped_bytes += bytes.size() % link::kV1WordBytes;
+  }
   return ref;
 }
 
@@ -153,6 +224,26 @@ void check_front(const device::SceneMemory& m, const device::DevicePreset& p, li
   }
 }
 
+// The transfers the input's transfer bytes make of `size` link bytes.
+std::vector<Transfer> transfers_of(std::span<const std::uint8_t> ops, std::size_t unit, std::size_t size) {
+  std::vector<Transfer> transfers;
+  std::size_t at = 0, op = 0, idle_ops = 0;
+  while (at < size) {
+    Transfer t{size - at, false};
+    if (!ops.empty()) {
+      const std::uint8_t o = ops[op++ % ops.size()];
+      t.bytes = std::min(t.bytes, (o & 0x7F) * unit);
+      t.blanking = (o & 0x80) != 0;
+      // Only empty transfers: send the rest at once rather than loop for ever.
+      idle_ops = t.bytes == 0 ? idle_ops + 1 : 0;
+      if (idle_ops > ops.size()) t.bytes = size - at;
+    }
+    transfers.push_back(t);
+    at += t.bytes;
+  }
+  return transfers;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -160,15 +251,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint8_t config = data[0];
   const std::size_t op_count = std::min<std::size_t>(data[1] % 16, size - 2);
   const std::span<const std::uint8_t> ops(data + 2, op_count);
-  const link::WireVersion wire = (config & 1) ? link::WireVersion::kV1 : link::WireVersion::kV2;
+  const link::WireVersion wire = (config & 1)      ? link::WireVersion::kV1
+                                 : (config & 0x20) ? link::WireVersion::kV3
+                                                   : link::WireVersion::kV2;
   std::vector<std::uint8_t> link_bytes(data + 2 + op_count, data + size);
-  if (wire == link::WireVersion::kV2 && !(config & 0x10)) tripsitter::fuzz::repair_v2_crcs(link_bytes);
+  if (wire != link::WireVersion::kV1 && !(config & 0x10)) tripsitter::fuzz::repair_frame_crcs(wire, link_bytes);
   const std::span<const std::uint8_t> bytes(link_bytes);
 
   const device::DevicePreset preset = (config & 2) ? device::board_2023_preset() : device::wide_preset();
   const std::size_t unit = std::size_t{1} << (2 * ((config >> 2) & 3));
+  const std::vector<Transfer> transfers = transfers_of(ops, unit, bytes.size());
 
-  const Reference ref = wire == link::WireVersion::kV1 ? reference_v1(bytes, preset) : reference_v2(bytes, preset);
+  const Reference ref =
+      wire == link::WireVersion::kV1 ? reference_v1(bytes, preset) : reference_frames(wire, bytes, preset, transfers);
 
   device::Receiver receiver(preset, wire);
   device::SceneMemory front;
@@ -195,22 +290,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                "the swapped-in world is not the latest accepted world of the reference");
   };
 
-  std::size_t at = 0, op = 0, idle_ops = 0;
-  while (at < bytes.size()) {
-    std::size_t n = bytes.size() - at;
-    bool blank = false;
-    if (!ops.empty()) {
-      const std::uint8_t o = ops[op++ % ops.size()];
-      n = std::min(n, (o & 0x7F) * unit);
-      blank = (o & 0x80) != 0;
-      // Only empty transfers: send the rest at once rather than loop for ever.
-      idle_ops = n == 0 ? idle_ops + 1 : 0;
-      if (idle_ops > ops.size()) n = bytes.size() - at;
-    }
-    receiver.receive(bytes.subspan(at, n));
-    at += n;
+  std::size_t at = 0;
+  for (const Transfer& t : transfers) {
+    receiver.receive(bytes.subspan(at, t.bytes));
+    at += t.bytes;
     check_ready();
-    if (blank) blanking();
+    if (t.blanking) blanking();
   }
   receiver.end_of_stream();
   check_ready();
@@ -221,9 +306,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   FUZZ_CHECK(stats.frames_rejected == ref.rejected, "rejected frames differ from the reference");
   FUZZ_CHECK(stats.garbage_runs == ref.garbage_runs, "garbage runs differ from the reference");
   FUZZ_CHECK(stats.worlds_missing == ref.missing, "missing worlds differ from the reference");
+  FUZZ_CHECK(stats.worlds_replayed == ref.replayed, "replayed worlds differ from the reference");
+  FUZZ_CHECK(stats.sessions == ref.sessions, "sessions differ from the reference");
   FUZZ_CHECK(stats.frames_rejected == 0 || !stats.last_error.empty(), "a rejection without a reason");
   std::uint64_t accepted_bytes = 0;
   for (const std::size_t b : ref.accepted_bytes) accepted_bytes += b;
+  FUZZ_CHECK(stats.bytes_dropped == ref.dropped_bytes, "dropped bytes differ from the reference");
   FUZZ_CHECK(accepted_bytes + stats.bytes_dropped == bytes.size(),
              "link bytes lost: neither in an accepted world nor counted as dropped");
   if (ref.accepted.empty()) FUZZ_CHECK(!front.valid, "a scene memory shown without any accepted world");

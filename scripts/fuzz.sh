@@ -9,7 +9,7 @@
 #   scripts/fuzz.sh --ci RUNS [TARGET...]   CI: exactly RUNS executions per target (seed inputs included),
 #                                           seed 1, starting from the seeds alone, no corpus reloads: the
 #                                           bound is work, not time, so a slow machine does the same runs
-#   targets: wire_v1 wire_v2 receiver scene_json key_script
+#   targets: wire_v1 wire_v2 wire_v3 receiver scene_json key_script
 #   FUZZ_BUILD_DIR=DIR builds in DIR instead of the preset's build/fuzz.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -30,7 +30,7 @@ case "$amount" in
   ''|*[!0-9]*) usage ;;
 esac
 targets=("$@")
-((${#targets[@]})) || targets=(wire_v1 wire_v2 receiver scene_json key_script)
+((${#targets[@]})) || targets=(wire_v1 wire_v2 wire_v3 receiver scene_json key_script)
 
 if ! command -v clang++-14 >/dev/null; then
   echo "clang++-14 is missing: apt-get install clang-14 libclang-rt-14-dev" >&2

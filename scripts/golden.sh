@@ -2,7 +2,7 @@
 # The fixed set of outputs that a change of structure must leave bit for bit as they are: hw frames of every
 # built-in scene and a scene file under both wires and both presets, what render prints about them, the float
 # reference and the path tracer at two sizes each, 4-frame animations in every mode, a VCD trace, encoded link
-# bytes and the device fed those bytes.
+# bytes on every wire (v3 with a fixed session), the device fed those bytes, and a decoded v3 stream.
 #
 #   scripts/golden.sh BIN                  prints "sha256  name" for every output of the set (to record them)
 #   scripts/golden.sh BIN --check FILE     renders the set and compares it with FILE; exit 1 on any difference
@@ -52,10 +52,14 @@ run anim-normal render --scene field --mode normal --width 200 --height 150 --fr
 run anim-path render --scene cluster --mode path --width 80 --height 60 --spp 2 --frames 4 --orbit 120 \
     --out path-anim/f_%02d.png --quiet
 
-for wire in v1 v2; do
-  "$bin" link encode --scene cluster --wire "$wire" >"link-cluster-$wire.bin" 2>"link-cluster-$wire.err"
+for wire in v1 v2 v3; do
+  session=()
+  [ "$wire" = v3 ] && session=(--session 7)  # a host draws its session at random; fixed here
+  "$bin" link encode --scene cluster --wire "$wire" "${session[@]}" >"link-cluster-$wire.bin" 2>"link-cluster-$wire.err"
   run "link-input-$wire" render --link-input "link-cluster-$wire.bin" --wire "$wire" --out "link-input-$wire.png"
 done
+"$bin" link encode --scene cluster --wire v3 --session 7 --worlds 5 --orbit 40 >link-orbit-v3.bin 2>link-orbit-v3.err
+"$bin" link decode --wire v3 --json --in link-orbit-v3.bin >link-decode-v3.json 2>link-decode-v3.err
 
 # Outputs that name the temporary directory would differ from run to run: those lines name it as $OUT.
 find . -type f -name '*.err' -exec sed -i "s|$out|\$OUT|g" {} +

@@ -19,7 +19,7 @@ link::SceneFormats formats_of(const device::DevicePreset& preset) {
 Board::Board(scene::Scene scene, BoardConfig config)
     : config_(config),
       host_(std::move(scene), formats_of(config.preset), config.wire),
-      link_(config.spi),
+      link_(config.spi, link::Numbering(config.wire, config.session)),
       device_(config.preset, config.wire, config.device_threads, config.device_model) {}
 
 ShownFrame Board::show(const std::function<void(const device::VgaSample&)>& probe) {

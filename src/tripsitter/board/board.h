@@ -18,10 +18,13 @@ namespace tripsitter::board {
 
 struct BoardConfig {
   device::DevicePreset preset = device::wide_preset();
-  link::WireVersion wire = link::WireVersion::kV2;
+  link::WireVersion wire = link::WireVersion::kV3;
   link::SpiConfig spi;
   int device_threads = 0;  // threads the device model computes a frame's lines on (Device's `threads`)
   device::DeviceModel device_model = device::DeviceModel::kFast;  // kPlain: the reference model
+  // The host's session on v3 (link/sequence.h): a board runs one host from power-on, so a fixed number keeps
+  // its link bytes the same from run to run.
+  std::uint32_t session = 1;
 };
 
 // What one shown frame cost and reported.

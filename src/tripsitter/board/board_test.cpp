@@ -23,7 +23,7 @@ TEST(Board, DemoFrameShowsTheBoardsSphere) {
   EXPECT_EQ(f.image.at(5, 5), core::kBackground);
   EXPECT_EQ(f.device.late_pixels, 0);
   EXPECT_EQ(f.saturations.total(), 0u);
-  EXPECT_EQ(f.link_bytes, link::kV2HeaderBytes + link::kV2SphereBytes + link::kV2TrailerBytes);
+  EXPECT_EQ(f.link_bytes, link::kV3HeaderBytes + link::kSphereBytes + link::kFrameTrailerBytes);
 }
 
 TEST(Board, BoardPresetOverV1ShowsTheStripOfTheReport) {

@@ -117,8 +117,8 @@ std::vector<scene::Sphere> float_world(const device::SceneMemory& memory) {
                       : w.material == kDielectric ? scene::MaterialType::kDielectric
                                                   : scene::MaterialType::kLambertian;
     s.material.albedo = {w.albedo[0] / 255.0, w.albedo[1] / 255.0, w.albedo[2] / 255.0};
-    s.material.fuzz = w.fuzz / link::kV2FuzzScale;
-    s.material.ior = w.ior / link::kV2IorScale;
+    s.material.fuzz = w.fuzz / link::kFuzzScale;
+    s.material.ior = w.ior / link::kIorScale;
     out.push_back(s);
   }
   return out;

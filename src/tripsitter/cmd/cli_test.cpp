@@ -5,11 +5,15 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <tripsitter/display/png.h>
+#include <tripsitter/link/frame.h>
 
 #include "command_test_util.h"
 
@@ -76,7 +80,7 @@ TEST_F(Cli, BadInputExitsTwoWithAMessageAndWritesNothing) {
   const std::vector<Case> cases = {
       {"render --mode nope --out " + path("x.png"), "--mode"},
       {"render --preset nope --out " + path("x.png"), "unknown preset"},
-      {"render --wire v3 --out " + path("x.png"), "unknown wire"},
+      {"render --wire v4 --out " + path("x.png"), "unknown wire"},
       {"render --workers 0 --out " + path("x.png"), "workers"},
       {"render --width 320 --out " + path("x.png"), "640x480"},
       {"render --scene nosuchscene --out " + path("x.png"), "nosuchscene"},
@@ -126,6 +130,196 @@ TEST_F(Cli, LinkInputDrivesTheDevice) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("no intact world"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+// link encode --worlds N writes a stream of numbered worlds; link decode --json says what a device makes of it.
+class CliLink : public Cli {
+ protected:
+  // The cluster scene's 8 spheres in one v3 frame.
+  static constexpr std::size_t kWorldBytes =
+      tripsitter::link::kV3HeaderBytes + 8 * tripsitter::link::kSphereBytes + tripsitter::link::kFrameTrailerBytes;
+
+  // The bytes `link encode ARGS` writes; fails the test if it does not exit 0.
+  std::string encode(const std::string& args) const {
+    const Result r = run("link encode --scene cluster " + args);
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    return r.out;
+  }
+
+  // `link decode --json ARGS` of `bytes`: its result, and the JSON it printed.
+  std::pair<Result, nlohmann::json> decode_json(const std::string& bytes, const std::string& args = "--wire v3") const {
+    std::ofstream(path("in.bin"), std::ios::binary) << bytes;
+    const Result r = run("link decode --json " + args, path("in.bin"));
+    return {r, nlohmann::json::parse(r.out)};
+  }
+
+  static std::vector<std::uint32_t> accepted(const nlohmann::json& doc) {
+    return doc["accepted"].get<std::vector<std::uint32_t>>();
+  }
+};
+
+TEST_F(CliLink, EncodedWorldsOfAnOrbitDecodeInOrder) {
+  const Result enc = run("link encode --scene cluster --wire v3 --worlds 5 --session 77");
+  ASSERT_EQ(enc.exit_code, 0) << enc.err;
+  EXPECT_NE(enc.err.find("encoded 5 worlds of 8 spheres as " + std::to_string(5 * kWorldBytes) + " bytes (v3, "
+                         "session 77, numbered 1 to 5"),
+            std::string::npos)
+      << enc.err;
+  const std::string stream = enc.out;
+  ASSERT_EQ(stream.size(), 5 * kWorldBytes);
+  EXPECT_EQ(stream.substr(8, 8), std::string("\0\0\0\x4d\0\0\0\x01", 8));  // session 77, sequence 1
+  // The camera moves between worlds: the spheres' bytes differ.
+  const std::size_t payload = tripsitter::link::kV3HeaderBytes;
+  EXPECT_NE(stream.substr(payload, 8 * 24), stream.substr(kWorldBytes + payload, 8 * 24));
+
+  const auto [r, doc] = decode_json(stream);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(accepted(doc), (std::vector<std::uint32_t>{1, 2, 3, 4, 5})) << r.out;
+  for (const char* key : {"missing", "rejected", "replayed", "garbage_runs", "bytes_dropped"})
+    EXPECT_EQ(doc[key], 0) << key << "\n" << r.out;
+  EXPECT_EQ(doc["sessions"], 1) << r.out;
+  EXPECT_EQ(doc["wire"], "v3") << r.out;
+  EXPECT_EQ(doc["bytes"], stream.size()) << r.out;
+
+  std::ofstream(path("five.bin"), std::ios::binary) << stream;
+  const Result human = run("link decode", path("five.bin"));  // v3 is the default
+  EXPECT_EQ(human.exit_code, 0) << human.err;
+  for (const char* line : {"wire: v3", "world 1: sequence 1, session 77, 4 fractional bits, 8 spheres, a new session\n",
+                           "world 5: sequence 5, session 77, 4 fractional bits, 8 spheres\n", "  sphere 7: centre (",
+                           "shown 5, rejected 0, replayed 0, missing 0, garbage runs 0, bytes dropped 0\n"})
+    EXPECT_NE(human.out.find(line), std::string::npos) << line << "\n" << human.out;
+  EXPECT_EQ(human.err, "");
+
+  // Without --session, a random one: two hosts that start differ (but for a chance of 2^-32).
+  EXPECT_NE(encode("--wire v3").substr(8, 4), encode("--wire v3").substr(8, 4));
+}
+
+TEST_F(CliLink, ALostWorldIsMissingAndADamagedOneRejected) {
+  const std::string stream = encode("--wire v3 --worlds 5 --session 9");
+  ASSERT_EQ(stream.size(), 5 * kWorldBytes);
+  const std::size_t third = 2 * kWorldBytes;
+
+  // World 3 never arrived: its number is missing, every byte that came is shown.
+  std::string lost = stream;
+  lost.erase(third, kWorldBytes);
+  auto [r, doc] = decode_json(lost);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(accepted(doc), (std::vector<std::uint32_t>{1, 2, 4, 5})) << r.out;
+  EXPECT_EQ(doc["missing"], 1) << r.out;
+  EXPECT_EQ(doc["rejected"], 0) << r.out;
+
+  // A flipped bit in world 3's sequence number: its header CRC refuses it, its other bytes are skipped, the
+  // next world is shown, and world 3 counts as missing. The JSON comes with exit code 2.
+  std::string damaged = stream;
+  damaged[third + 15] = static_cast<char>(damaged[third + 15] ^ 0x04);
+  std::tie(r, doc) = decode_json(damaged);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(accepted(doc), (std::vector<std::uint32_t>{1, 2, 4, 5})) << r.out;
+  EXPECT_EQ(doc["rejected"], 1) << r.out;
+  EXPECT_EQ(doc["garbage_runs"], 1) << r.out;
+  EXPECT_EQ(doc["bytes_dropped"], kWorldBytes) << r.out;
+  EXPECT_EQ(doc["missing"], 1) << r.out;
+  EXPECT_EQ(doc["problems"][0]["error"], "bad header CRC") << r.out;
+  EXPECT_EQ(doc["problems"][0]["offset"], third + 24) << r.out;
+  EXPECT_NE(r.err.find("<stdin>: byte " + std::to_string(third + 24) + ": bad header CRC: "),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("(1 byte dropped)"), std::string::npos) << r.err;
+
+  // The same in human words.
+  std::ofstream(path("damaged.bin"), std::ios::binary) << damaged;
+  const Result human = run("link decode --wire v3", path("damaged.bin"));
+  EXPECT_EQ(human.exit_code, 2);
+  EXPECT_NE(human.out.find("world 3: sequence 4, session 9, 4 fractional bits, 8 spheres, 1 missing before it"),
+            std::string::npos)
+      << human.out;
+  EXPECT_NE(human.out.find("shown 4, rejected 1, replayed 0, missing 1, garbage runs 1, bytes dropped " +
+                           std::to_string(kWorldBytes) + "\n"),
+            std::string::npos)
+      << human.out;
+}
+
+TEST_F(CliLink, ReplaysAreNotShownAndANewSessionIs) {
+  const std::string first = encode("--wire v3 --worlds 5 --session 9");
+  const std::string second = encode("--wire v3 --worlds 2 --session 10");
+  const std::string world2 = first.substr(kWorldBytes, kWorldBytes);
+
+  // World 2 again after world 5: a replay, not shown; exit code 2.
+  auto [r, doc] = decode_json(first + world2);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(accepted(doc), (std::vector<std::uint32_t>{1, 2, 3, 4, 5})) << r.out;
+  EXPECT_EQ(doc["replayed"], 1) << r.out;
+  EXPECT_EQ(doc["rejected"], 0) << r.out;
+  EXPECT_EQ(doc["bytes_dropped"], kWorldBytes) << r.out;  // as the device counts a replay's bytes
+  EXPECT_EQ(doc["problems"][0]["error"], "replay") << r.out;
+  EXPECT_NE(r.err.find(": byte " + std::to_string(5 * kWorldBytes) + ": replay: world 2 of session 9 is not newer "
+                       "than the last one of its session (" + std::to_string(kWorldBytes) + " bytes dropped, not shown)"),
+            std::string::npos)
+      << r.err;
+
+  // A host that restarts with another session is shown from its first world; the old session has ended.
+  std::tie(r, doc) = decode_json(first + second + world2);
+  EXPECT_EQ(accepted(doc), (std::vector<std::uint32_t>{1, 2, 3, 4, 5, 1, 2})) << r.out;
+  EXPECT_EQ(doc["sessions"], 2) << r.out;
+  EXPECT_EQ(doc["replayed"], 1) << r.out;
+  EXPECT_EQ(doc["missing"], 0) << r.out;
+  EXPECT_NE(r.err.find("replay: world 2 of session 9 belongs to a session that has ended"), std::string::npos) << r.err;
+}
+
+TEST_F(CliLink, EarlierWiresStillDecode) {
+  const Result enc = run("link encode --scene cluster --wire v2 --worlds 3");
+  ASSERT_EQ(enc.exit_code, 0) << enc.err;
+  EXPECT_NE(enc.err.find("(v2, numbered 1 to 3, "), std::string::npos) << enc.err;
+  auto [r, doc] = decode_json(enc.out, "--wire v2");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(accepted(doc), (std::vector<std::uint32_t>{1, 2, 3})) << r.out;
+  EXPECT_EQ(doc["wire"], "v2");
+  const Result human = run("link decode --wire v2", path("in.bin"));
+  EXPECT_EQ(human.exit_code, 0) << human.err;
+  EXPECT_NE(human.out.find("wire: v2 (TripSitter's earlier framed wire, still decoded)"), std::string::npos)
+      << human.out;
+  EXPECT_NE(human.out.find("world 3: sequence 3, 4 fractional bits, 8 spheres\n"), std::string::npos) << human.out;
+
+  // v2 bytes read as v3: no frame at all, one garbage run.
+  std::tie(r, doc) = decode_json(enc.out, "--wire v3");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(accepted(doc), std::vector<std::uint32_t>{}) << r.out;
+  EXPECT_EQ(doc["garbage_runs"], 1) << r.out;
+  EXPECT_EQ(doc["bytes_dropped"], enc.out.size()) << r.out;
+
+  // v1: each word is a world; a partial word at the end is rejected.
+  const std::string words = encode("--wire v1 --worlds 2");
+  ASSERT_EQ(words.size(), 2 * 8 * 8u);
+  std::tie(r, doc) = decode_json(words + "abc", "--wire v1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(accepted(doc).size(), 16u) << r.out;
+  EXPECT_EQ(doc["rejected"], 1) << r.out;
+  EXPECT_EQ(doc["bytes_dropped"], 3) << r.out;
+}
+
+TEST_F(CliLink, BadEncodeOptionsExitTwo) {
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases = {
+      {"link encode --session 0", "--session"},
+      {"link encode --session 4294967296", "--session"},
+      {"link encode --session -3", "--session"},
+      {"link encode --wire v2 --session 5", "--session"},
+      {"link encode --worlds 0", "--worlds"},
+      {"link encode --worlds -2", "--worlds"},
+      {"link encode --worlds many", "--worlds"},
+      {"link encode --orbit 1e9", "--orbit"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_EQ(r.out, "") << c.args;
+  }
+  const Result help = run("link decode --help");
+  for (const char* text : {"--json", "Exit 0 when every byte was in a world the device shows", "replay"})
+    EXPECT_NE(help.out.find(text), std::string::npos) << text << "\n" << help.out;
 }
 
 TEST_F(Cli, VcdHasTheSignals) {

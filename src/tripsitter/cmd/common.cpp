@@ -45,7 +45,7 @@ device::DevicePreset load_preset(const std::string& name, int workers, int bounc
 
 link::WireVersion parse_wire(const std::string& name) {
   auto wire = link::wire_by_name(name);
-  if (!wire) throw InputError("unknown wire '" + name + "' (known: v1, v2)");
+  if (!wire) throw InputError("unknown wire '" + name + "' (known: v1, v2, v3)");
   return *wire;
 }
 

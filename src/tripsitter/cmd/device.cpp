@@ -1,4 +1,5 @@
 // tripsitter device: the FPGA and its monitor as a program, fed by a host over TCP.
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -24,9 +25,10 @@ struct DeviceOptions {
   int workers = 0;
   int spp = 0;    // path-tracing preset: 0 not given
   int depth = 0;
-  std::string wire = "v2";
+  std::string wire = "v3";
   std::uint64_t frames = 0;
   int scale = 1;
+  double host_timeout_s = std::chrono::duration<double>(transport::StreamPort::kDefaultStallTimeout).count();
 };
 
 // The monitor as a window. The keyboard belongs to the host program; here Esc or closing the window stops
@@ -89,8 +91,8 @@ void install_signal_handlers() {
 }
 
 void print_receiver(const device::ReceiverStats& rx) {
-  std::cerr << rx.worlds_accepted << " worlds accepted, " << rx.worlds_missing << " missing (sequence numbers skipped), "
-            << rx.frames_rejected << " rejected, " << rx.garbage_runs
+  std::cerr << rx.worlds_accepted << " worlds accepted, " << rx.worlds_missing << " missing (lost on the link), "
+            << rx.worlds_replayed << " replayed, " << rx.frames_rejected << " rejected, " << rx.garbage_runs
             << " runs of garbage, " << rx.bytes_dropped << " bytes dropped";
   if (!rx.last_error.empty()) std::cerr << " (last error: " << rx.last_error << ")";
 }
@@ -130,7 +132,7 @@ int run_device(const DeviceOptions& o) {
         std::cerr << "device: " << e.detail << "\n";
         break;
     }
-  });
+  }, std::chrono::milliseconds(static_cast<std::int64_t>(o.host_timeout_s * 1000)));
   if (!port) throw InputError(port.error().message);
   install_signal_handlers();
   std::cerr << "listening on " << port.value().address().to_string() << std::endl;
@@ -156,8 +158,11 @@ int run_device(const DeviceOptions& o) {
       throw InputError(std::string(e.what()) + " (without a display, use --headless --out-dir DIR)");
     }
   }
+  const auto started = std::chrono::steady_clock::now();
   const DeviceLoopResult r = run_device_loop(dev, port.value(), *sink, {o.frames, kVgaFrameSeconds}, g_stop);
-  std::cerr << "device: " << r.frames << " frames drawn (" << r.late_frames << " late), " << r.new_worlds
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  std::cerr << "device: " << r.frames << " frames drawn (" << r.late_frames << " late) in " << seconds << " s ("
+            << (seconds > 0 ? static_cast<double>(r.frames) / seconds : 0.0) << " frames/s), " << r.new_worlds
             << " new worlds shown";
   if (png) std::cerr << ", " << png->written() << " files written";
   std::cerr << "; receiver: ";
@@ -179,9 +184,10 @@ void add_device_command(CLI::App& app, Action& run) {
   cmd->footer(
       "Listens for one host at a time and draws frames at the VGA rate (59.5 frames/s) in real time. A host\n"
       "that goes away leaves its last good world on screen; a second host while one is served is refused (it\n"
-      "is told the device is busy). Stops cleanly (exit 0) on SIGINT or SIGTERM, or after --frames. The\n"
-      "protocol: docs/link_format.md, \"Over a byte stream\".\n"
-      "With --preset path the device path-traces v2 worlds and accumulates them in frame memory while the\n"
+      "is told the device is busy); one that sends bytes but completes no world for --host-timeout seconds is\n"
+      "dropped. Stops cleanly (exit 0) on SIGINT or SIGTERM, or after --frames. The protocol:\n"
+      "docs/link_format.md, \"Over a byte stream\".\n"
+      "With --preset path the device path-traces the host's worlds and accumulates them in frame memory while the\n"
       "worlds the host sends keep the same content (a host sends its view every tick, so a still camera\n"
       "refines); a world of other content starts over. Headless, each frame that shows a new world is\n"
       "written: while a host with a still camera runs (a script's 'wait'), the files show the samples growing.");
@@ -200,8 +206,12 @@ void add_device_command(CLI::App& app, Action& run) {
                   "stops at 255)")
       ->check(CLI::Range(1, 255));
   cmd->add_option("--depth", o->depth, "--preset path: rays per path, 1..16 (default 4)")->check(CLI::Range(1, 16));
-  cmd->add_option("--wire", o->wire, "Link protocol the host speaks: v1 or v2")->capture_default_str();
+  cmd->add_option("--wire", o->wire, "Link protocol the host speaks: v1 (the board's word), v2 (framed worlds, still decoded) or v3 (framed worlds with a header check and sessions)")->capture_default_str();
   cmd->add_option("--frames", o->frames, "Stop after this many frames (default: run until SIGINT or SIGTERM)");
+  cmd->add_option("--host-timeout", o->host_timeout_s,
+                  "Seconds a host may send bytes without completing a world before it is dropped and the next "
+                  "host served (a host sending one byte a second, or bytes of another wire)")
+      ->capture_default_str()->check(CLI::Range(0.1, 3600.0));
   cmd->add_option("--scale", o->scale, "Window size as a multiple of 640x480 (without --headless)")
       ->capture_default_str()->check(CLI::Range(1, 8));
   cmd->callback([o, &run] { run = [o] { return run_device(*o); }; });

@@ -56,7 +56,10 @@ class DeviceStreamEndpoint : public link::StreamEndpoint {
   void transfer(std::span<const std::uint8_t> bytes) override { device_.transfer(bytes); }
   void end_of_stream() override { device_.end_of_stream(); }
   std::uint64_t worlds_accepted() const override { return device_.receiver_stats().worlds_accepted; }
-  std::uint64_t worlds_rejected() const override { return device_.receiver_stats().frames_rejected; }
+  // A replayed world ends its credit like a rejected one: it is not shown.
+  std::uint64_t worlds_rejected() const override {
+    return device_.receiver_stats().frames_rejected + device_.receiver_stats().worlds_replayed;
+  }
 
  private:
   device::Device& device_;

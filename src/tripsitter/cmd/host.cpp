@@ -3,7 +3,9 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <thread>
 
 #include <tripsitter/board/board.h>
 #include <tripsitter/host/host.h>
@@ -21,7 +23,7 @@ struct HostOptions {
   std::string connect;
   std::string scene = "demo";
   std::string keys;
-  std::string wire = "v2";
+  std::string wire = "v3";
   std::string preset = "wide";
   std::size_t transfer_bytes = link::SpiConfig{}.max_transfer_bytes;
   bool fast = false;
@@ -43,6 +45,118 @@ int lost(const transport::StreamError& e) {
   return kExitInternal;
 }
 
+using Clock = transport::StreamClock;
+
+// The host's end of the link over TCP, one StreamSender per connection. When the device goes away after it
+// has answered a world on this connection (it was killed, or restarted), the link reconnects with backoff,
+// under a new session (link/sequence.h), and sends the latest world again. A connection lost before any
+// answer is not retried: that device does not take this host's worlds (another wire, say).
+class ReconnectingLink {
+ public:
+  ReconnectingLink(transport::StreamAddress address, link::WireVersion wire, std::size_t transfer_bytes,
+                   std::chrono::milliseconds timeout)
+      : address_(std::move(address)), peer_(address_.to_string()), wire_(wire), transfer_bytes_(transfer_bytes),
+        timeout_(timeout) {}
+
+  // The first connection; nothing there is bad input (exit 2).
+  void connect() {
+    auto socket = transport::connect_stream(address_, timeout_);
+    if (!socket)
+      throw InputError(socket.error().message + " (is `tripsitter device --listen " + peer_ + "` running?)");
+    open(std::move(socket).value());
+  }
+
+  void submit(std::vector<std::uint8_t> bytes) {
+    latest_ = bytes;
+    sender_->submit(std::move(bytes));
+  }
+
+  core::Result<bool, transport::StreamError> pump_until(Clock::time_point until) {
+    for (;;) {
+      auto r = sender_->pump_until(until);
+      if (r) return r;
+      transport::StreamError e = r.error();
+      if (!recover(e)) return e;
+    }
+  }
+
+  core::Result<transport::WorldAnswer, transport::StreamError> finish() {
+    for (;;) {
+      auto r = sender_->finish(Clock::now() + timeout_);
+      if (r) return r;
+      transport::StreamError e = r.error();
+      if (!recover(e)) return e;
+    }
+  }
+
+  void close() {
+    sender_->close();
+    add_stats();
+  }
+
+  const transport::StreamSenderStats& totals() const { return totals_; }
+  std::uint32_t last_sequence() const { return sender_->numbering()->last_sequence(); }
+  std::uint32_t session() const { return sender_->numbering()->session(); }
+  const std::string& peer() const { return peer_; }
+
+ private:
+  void open(transport::StreamSocket socket) {
+    sender_.emplace(std::move(socket), peer_, transfer_bytes_, timeout_, link::Numbering(wire_, link::random_session()));
+  }
+
+  void add_stats() {
+    const transport::StreamSenderStats& s = sender_->stats();
+    totals_.worlds_submitted += s.worlds_submitted;
+    totals_.worlds_sent += s.worlds_sent;
+    totals_.worlds_replaced += s.worlds_replaced;
+    totals_.worlds_taken += s.worlds_taken;
+    totals_.worlds_rejected += s.worlds_rejected;
+    totals_.transfers += s.transfers;
+    totals_.bytes_sent += s.bytes_sent;
+    totals_.credits += s.credits;
+  }
+
+  // Reconnects after a lost connection on which the device had answered a world, retrying with a backoff
+  // that doubles from 100 ms to 2 s, for at most the timeout. False: the error stands.
+  bool recover(transport::StreamError& e) {
+    const transport::StreamSenderStats& s = sender_->stats();
+    if (e.kind != transport::StreamError::Kind::kLost) return false;
+    if (s.worlds_taken + s.worlds_rejected == 0) {
+      e.message += " before answering a world (does it run the same --wire?)";
+      return false;
+    }
+    add_stats();
+    std::cerr << "host: " << e.message << "; reconnecting\n";
+    const auto lost_at = Clock::now();
+    auto backoff = std::chrono::milliseconds(100);
+    for (int attempt = 1;; ++attempt) {
+      if (Clock::now() + backoff > lost_at + timeout_) {
+        std::cerr << "host: gave up reconnecting to " << peer_ << " after " << attempt - 1 << " attempts\n";
+        return false;
+      }
+      std::this_thread::sleep_for(backoff);
+      backoff = std::min(backoff * 2, std::chrono::milliseconds(2000));
+      auto socket = transport::connect_stream(address_, timeout_);
+      if (!socket) continue;
+      open(std::move(socket).value());
+      std::cerr << "host: reconnected to " << peer_ << " at attempt " << attempt << ", "
+                << std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - lost_at).count()
+                << " ms after the loss; new session " << session() << "\n";
+      if (!latest_.empty()) sender_->submit(latest_);
+      return true;
+    }
+  }
+
+  transport::StreamAddress address_;
+  std::string peer_;
+  link::WireVersion wire_;
+  std::size_t transfer_bytes_;
+  std::chrono::milliseconds timeout_;
+  std::optional<transport::StreamSender> sender_;
+  std::vector<std::uint8_t> latest_;  // the newest world, sent again after a reconnection
+  transport::StreamSenderStats totals_;  // of the connections closed so far
+};
+
 int run_host(const HostOptions& o) {
   const link::WireVersion wire = parse_wire(o.wire);
   const device::DevicePreset preset = load_preset(o.preset, 0);
@@ -53,12 +167,9 @@ int run_host(const HostOptions& o) {
   const auto timeout = std::chrono::milliseconds(static_cast<std::int64_t>(o.timeout_s * 1000));
 
   std::signal(SIGPIPE, SIG_IGN);
-  auto socket = transport::connect_stream(address.value(), timeout);
-  if (!socket)
-    throw InputError(socket.error().message + " (is `tripsitter device --listen " + address.value().to_string() +
-                     "` running?)");
-  const std::string peer = address.value().to_string();
-  transport::StreamSender sender(std::move(socket).value(), peer, o.transfer_bytes, timeout);
+  ReconnectingLink link(address.value(), wire, o.transfer_bytes, timeout);
+  link.connect();
+  const std::string& peer = link.peer();
 
   const std::int64_t ticks = host::total_ticks(actions);
   std::cerr << "host: connected to " << peer << "; " << actions.size() << " key actions, " << ticks << " ticks ("
@@ -67,23 +178,23 @@ int run_host(const HostOptions& o) {
 
   host::Host h(std::move(scene), board::formats_of(preset), wire);
   host::KeyScriptPlayer player(std::move(actions));
-  using Clock = transport::StreamClock;
   const auto tick = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / host::kScriptTicksPerSecond));
   const auto start = Clock::now();
   // Tick 0 is the scene as loaded; every tick of the script makes a newer world.
-  const auto submit = [&] { sender.submit(h.update().bytes); };
   // The world of tick t is made at start + t/60 s and may go out until the next tick's is made.
+  std::uint64_t made = 0;
   for (std::int64_t t = 0; t == 0 || player.step(h); ++t) {
-    submit();
-    if (auto r = sender.pump_until(o.fast ? Clock::time_point{} : start + (t + 1) * tick); !r) return lost(r.error());
+    link.submit(h.update().bytes);
+    ++made;
+    if (auto r = link.pump_until(o.fast ? Clock::time_point{} : start + (t + 1) * tick); !r) return lost(r.error());
   }
   const host::ReadyWorld& last = h.ready();
-  auto answer = sender.finish(Clock::now() + timeout);
+  auto answer = link.finish();
   if (!answer) return lost(answer.error());
-  sender.close();
+  link.close();
 
-  const auto& s = sender.stats();
-  std::cerr << "host: " << s.worlds_submitted << " worlds made, " << s.worlds_sent << " sent, " << s.worlds_replaced
+  const auto& s = link.totals();
+  std::cerr << "host: " << made << " worlds made, " << s.worlds_sent << " sent, " << s.worlds_replaced
             << " replaced before the device was ready; " << s.bytes_sent << " bytes in " << s.transfers
             << " transfers of at most " << o.transfer_bytes << "; the last world has " << last.saturations.total()
             << " saturated values\n";
@@ -91,11 +202,12 @@ int run_host(const HostOptions& o) {
     std::cerr << "host: " << last.spheres_dropped << " spheres beyond the device's scene memory were not sent\n";
   if (s.worlds_rejected > 0) std::cerr << "host: the device rejected " << s.worlds_rejected << " worlds\n";
   if (answer.value() == transport::WorldAnswer::kRejected) {
-    std::cerr << "tripsitter: the device at " << peer << " rejected the last world (sequence " << last.sequence
+    std::cerr << "tripsitter: the device at " << peer << " rejected the last world (sequence " << link.last_sequence()
               << "); do --wire and --preset match the device's?\n";
     return kExitInternal;
   }
-  std::cerr << "host: the device took the last world (sequence " << last.sequence << ")\n";
+  std::cerr << "host: the device took the last world (sequence " << link.last_sequence() << " of session "
+            << link.session() << ")\n";
   return kExitOk;
 }
 
@@ -107,15 +219,17 @@ void add_host_command(CLI::App& app, Action& run) {
   cmd->footer(
       "Plays a key script on the scene's camera in ticks of 1/60 s, makes a world every tick and sends it to\n"
       "`tripsitter device` whenever the device is ready (a newer world replaces one not yet sent). Exits once\n"
-      "the device has taken the last world. Exit 2: bad input, or no device at the address; exit 1: the\n"
-      "connection was lost, the device was busy or did not answer, or it rejected the last world.");
+      "the device has taken the last world. If the device goes away after taking worlds (it was restarted),\n"
+      "the host reconnects, retrying for up to --timeout seconds, and goes on. Exit 2: bad input, or no device\n"
+      "at the address; exit 1: the connection was lost for good, the device was busy or did not answer, or it\n"
+      "rejected the last world.");
   cmd->add_option("--connect", o->connect, "Address of the device, HOST:PORT")->required();
   cmd->add_option("--scene", o->scene, "Built-in scene name (" + join(scene::builtin_names()) + ") or JSON scene file")
       ->capture_default_str();
   cmd->add_option("--keys", o->keys,
                   "Key script ('-' for stdin; docs/key_script.md): lines like 'W 500ms', 'J 0.25s', 'R', 'wait 1s'. "
                   "Without one, the host sends the scene as loaded and exits");
-  cmd->add_option("--wire", o->wire, "v1 (one 8-byte word per sphere) or v2 (framed worlds)")->capture_default_str();
+  cmd->add_option("--wire", o->wire, "v1 (one 8-byte word per sphere), v2 (framed worlds) or v3 (framed worlds with a header check and sessions)")->capture_default_str();
   cmd->add_option("--preset", o->preset, "Device preset whose number formats the host rounds to (as the device's)")
       ->capture_default_str();
   cmd->add_option("--transfer-bytes", o->transfer_bytes, "Largest SPI transfer in bytes")

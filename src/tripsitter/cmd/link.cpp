@@ -6,12 +6,18 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <span>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include <tripsitter/board/board.h>
+#include <tripsitter/device/receiver.h>
 #include <tripsitter/host/host.h>
+#include <tripsitter/link/frame.h>
+#include <tripsitter/link/sequence.h>
 #include <tripsitter/link/wire_v1.h>
-#include <tripsitter/link/wire_v2.h>
 
 #include "commands.h"
 #include "common.h"
@@ -21,85 +27,226 @@ namespace {
 
 struct LinkOptions {
   std::string scene = "demo";
-  std::string wire = "v2";
+  std::string wire = "v3";
   std::string preset = "wide";
   std::string input = "-";
+  int worlds = 1;
+  double orbit = 360;
+  std::uint64_t session = 0;  // 0: not given, a random one
+  bool json = false;
 };
 
 int run_encode(const LinkOptions& o) {
   const link::WireVersion wire = parse_wire(o.wire);
+  if (o.session != 0 && wire != link::WireVersion::kV3)
+    throw InputError("--session is for --wire v3: " + o.wire + " carries no session");
   const device::DevicePreset preset = load_preset(o.preset, 0);
   scene::Scene scene = load_scene(o.scene);
   if (isatty(STDOUT_FILENO)) throw InputError("link encode writes binary: redirect standard output to a file");
   host::Host host(std::move(scene), board::formats_of(preset), wire);
-  const auto& world = host.update();
-  std::fwrite(world.bytes.data(), 1, world.bytes.size(), stdout);
+  const std::uint32_t session = wire != link::WireVersion::kV3 ? 0
+                                : o.session != 0              ? static_cast<std::uint32_t>(o.session)
+                                                              : link::random_session();
+  link::Numbering numbering(wire, session);
+  std::size_t bytes = 0;
+  for (int i = 0; i < o.worlds; ++i) {
+    if (i > 0) host.camera().orbit(o.orbit / o.worlds);
+    std::vector<std::uint8_t> world = host.update().bytes;
+    numbering.stamp(world);
+    std::fwrite(world.data(), 1, world.size(), stdout);
+    bytes += world.size();
+  }
   if (std::fflush(stdout) != 0) throw std::runtime_error("writing standard output failed");
-  std::cerr << "encoded " << world.spheres << " spheres as " << world.bytes.size() << " bytes ("
-            << o.wire << ", " << world.saturations.total() << " saturated values)\n";
+  std::cerr << "encoded " << o.worlds << (o.worlds == 1 ? " world of " : " worlds of ") << host.ready().spheres
+            << " spheres as " << bytes << " bytes (" << o.wire;
+  if (wire == link::WireVersion::kV3) std::cerr << ", session " << session;
+  if (wire != link::WireVersion::kV1) {
+    std::cerr << ", numbered 1";
+    if (o.worlds > 1) std::cerr << " to " << numbering.last_sequence();
+  }
+  std::cerr << ", " << host.total_saturations().total() << " saturated values)\n";
   return kExitOk;
 }
 
+const char* wire_description(link::WireVersion wire) {
+  switch (wire) {
+    case link::WireVersion::kV1: return "v1 (the board's sphere words, no numbers)";
+    case link::WireVersion::kV2: return "v2 (TripSitter's earlier framed wire, still decoded)";
+    case link::WireVersion::kV3: return "v3 (framed worlds numbered in host sessions)";
+  }
+  return "";
+}
+
+// Why the device would refuse a world's content (its number formats, the path preset's indices of
+// refraction), or nothing. A receiver that has seen nothing else takes the world's bytes as the first of a
+// new session, so only those checks can refuse it: they are the device's own, not a copy of them.
+std::optional<std::string> content_refusal(const device::DevicePreset& preset, link::WireVersion wire,
+                                           std::span<const std::uint8_t> world_bytes) {
+  device::Receiver receiver(preset, wire);
+  receiver.receive(world_bytes);
+  if (receiver.stats().worlds_accepted == 1) return std::nullopt;
+  return receiver.stats().last_error;
+}
+
+// What the device makes of a stream, world by world, and its counts (device::ReceiverStats).
+struct Decoded {
+  std::string source;  // the input's name, for messages
+  bool print_worlds = true;
+  std::vector<std::uint32_t> accepted;  // sequence numbers of the worlds shown (v1: places of the words, from 1)
+  std::uint64_t rejected = 0, replayed = 0, missing = 0, sessions = 0, garbage_runs = 0, bytes_dropped = 0;
+  nlohmann::json problems = nlohmann::json::array();
+
+  // One line on stderr and one entry in the JSON's problems. `fate` says what became of the bytes.
+  void problem(std::size_t offset, const std::string& error, const std::string& detail, std::size_t bytes,
+               const char* fate = "dropped") {
+    std::cerr << source << ": byte " << offset << ": " << error << ": " << detail << " (" << bytes
+              << (bytes == 1 ? " byte " : " bytes ") << fate << ")\n";
+    problems.push_back({{"offset", offset}, {"error", error}, {"detail", detail}, {"bytes", bytes}});
+  }
+  void reject(std::size_t offset, const std::string& error, const std::string& detail, std::size_t bytes) {
+    ++rejected;
+    bytes_dropped += bytes;
+    problem(offset, error, detail, bytes);
+  }
+};
+
 void print_sphere(std::size_t i, double x, double y, double z, double r, const std::string& extra) {
   std::cout << "  sphere " << i << ": centre (" << x << ", " << y << ", " << z << ") radius " << r << extra << "\n";
+}
+
+void print_world(link::WireVersion wire, const link::World& w, const link::SequenceCheck& c, std::size_t shown) {
+  const core::FixedFormat f{32, w.frac_bits, true};
+  std::cout << "world " << shown << ": sequence " << w.sequence;
+  if (wire == link::WireVersion::kV3) std::cout << ", session " << w.session;
+  std::cout << ", " << int(w.frac_bits) << " fractional bits, " << w.spheres.size() << " spheres";
+  if (c.new_session) std::cout << ", a new session";
+  if (c.missing > 0) std::cout << ", " << c.missing << " missing before it";
+  std::cout << "\n";
+  for (std::size_t i = 0; i < w.spheres.size(); ++i) {
+    const auto& s = w.spheres[i];
+    std::ostringstream extra;
+    extra << ", " << scene::material_name(static_cast<scene::MaterialType>(s.material)) << " albedo ("
+          << int(s.albedo[0]) << ", " << int(s.albedo[1]) << ", " << int(s.albedo[2]) << ")/255, fuzz "
+          << s.fuzz / link::kFuzzScale << ", ior " << s.ior / link::kIorScale;
+    print_sphere(i, f.to_double(s.x), f.to_double(s.y), f.to_double(s.z), f.to_double(s.radius), extra.str());
+  }
+}
+
+// v1: every 8 bytes are a word, a world of one sphere; a partial word at the end is rejected.
+void decode_words(const device::DevicePreset& preset, std::span<const std::uint8_t> bytes, Decoded& d) {
+  std::size_t at = 0;
+  link::V1StreamDecoder decoder([&](const link::V1Sphere& s) {
+    const std::size_t place = at / link::kV1WordBytes + 1;
+    if (auto why = content_refusal(preset, link::WireVersion::kV1, bytes.subspan(at, link::kV1WordBytes))) {
+      d.reject(at, "rejected", *why, link::kV1WordBytes);
+    } else {
+      d.accepted.push_back(static_cast<std::uint32_t>(place));
+      if (d.print_worlds) {
+        std::cout << "word " << place << ":\n";
+        std::ostringstream extra;
+        extra << " (2^" << int(s.radius_log2) << "), colour 0x" << std::hex << std::setw(3) << std::setfill('0')
+              << s.colour;
+        print_sphere(0, link::kV1X.to_double(s.x_raw), link::kV1Y.to_double(s.y_raw), link::kV1Z.to_double(s.z_raw),
+                     std::ldexp(1.0, s.radius_log2), extra.str());
+      }
+    }
+    at += link::kV1WordBytes;
+  });
+  decoder.push(bytes);
+  if (decoder.pending_bytes() > 0) {
+    d.reject(at, "truncated", "an incomplete word at the end of the stream", decoder.pending_bytes());
+  }
+}
+
+// v2 and v3: the stream decoder's frames and reports, then the device's rules for each frame that arrived
+// intact (device::Receiver's admit and accept_frame): its sequence number first, then its content.
+void decode_frames(link::WireVersion wire, const device::DevicePreset& preset, std::span<const std::uint8_t> bytes,
+                   Decoded& d) {
+  link::SequenceRules rules(wire);
+  std::optional<std::uint32_t> current_session;  // of the last world the rules let through
+  std::size_t at = 0;  // where the next frame or report begins: each byte is in exactly one, in order
+  // The sequence rules for an intact frame of `size` bytes at `at`: nothing for a replay.
+  const auto admit = [&](std::uint32_t session, std::uint32_t sequence,
+                         std::size_t size) -> std::optional<link::SequenceCheck> {
+    const link::SequenceCheck c = rules.check(session, sequence);
+    if (c.verdict == link::SequenceVerdict::kReplay) {
+      ++d.replayed;
+      d.bytes_dropped += size;  // as the device counts them
+      d.problem(at, "replay",
+                "world " + std::to_string(sequence) + " of session " + std::to_string(session) +
+                    (session == current_session ? " is not newer than the last one of its session"
+                                                : " belongs to a session that has ended"),
+                size, "dropped, not shown");
+      return std::nullopt;
+    }
+    current_session = session;
+    d.missing += c.missing;
+    if (c.new_session) ++d.sessions;
+    return c;
+  };
+  link::FrameStreamDecoder decoder(
+      wire, preset.max_spheres,
+      {.on_frame =
+           [&](link::World&& w) {
+             const std::size_t size = link::frame_bytes(wire, w.spheres.size());
+             if (const auto c = admit(w.session, w.sequence, size)) {
+               if (auto why = content_refusal(preset, wire, bytes.subspan(at, size))) {
+                 d.reject(at, "rejected", *why, size);
+               } else {
+                 d.accepted.push_back(w.sequence);
+                 if (d.print_worlds) print_world(wire, w, *c, d.accepted.size());
+               }
+             }
+             at += size;
+           },
+       .on_error =
+           [&](const link::FrameFailure& f, std::size_t dropped) {
+             if (f.error == link::FrameError::kBadMagic) {
+               ++d.garbage_runs;
+               d.bytes_dropped += dropped;
+               d.problem(f.offset, link::to_string(f.error), f.detail, dropped);
+             } else if (!f.intact || admit(f.intact->session, f.intact->sequence, dropped)) {
+               d.reject(f.offset, link::to_string(f.error), f.detail, dropped);
+             }
+             at += dropped;
+           }});
+  decoder.push(bytes);
+  decoder.end_of_stream();
 }
 
 int run_decode(const LinkOptions& o) {
   const link::WireVersion wire = parse_wire(o.wire);
   const device::DevicePreset preset = load_preset(o.preset, 0);
   const std::vector<std::uint8_t> bytes = read_bytes(o.input);
-  const std::string source = o.input == "-" ? "<stdin>" : o.input;
-  std::size_t errors = 0;
-  std::size_t decoded = 0;
+  Decoded d;
+  d.source = o.input == "-" ? "<stdin>" : o.input;
+  d.print_worlds = !o.json;
+  if (!o.json) std::cout << "wire: " << wire_description(wire) << "\n";
   if (wire == link::WireVersion::kV1) {
-    link::V1StreamDecoder decoder([&](const link::V1Sphere& s) {
-      std::cout << "word " << decoded << ":\n";
-      std::ostringstream extra;
-      extra << " (2^" << int(s.radius_log2) << "), colour 0x" << std::hex << std::setw(3) << std::setfill('0')
-            << s.colour;
-      print_sphere(0, link::kV1X.to_double(s.x_raw), link::kV1Y.to_double(s.y_raw), link::kV1Z.to_double(s.z_raw),
-                   std::ldexp(1.0, s.radius_log2), extra.str());
-      ++decoded;
-    });
-    decoder.push(bytes);
-    if (decoder.pending_bytes() > 0) {
-      std::cerr << source << ": byte " << bytes.size() - decoder.pending_bytes() << ": truncated: "
-                << decoder.pending_bytes() << " bytes of an incomplete word at the end\n";
-      ++errors;
-    }
+    decode_words(preset, bytes, d);
   } else {
-    link::V2StreamDecoder decoder(
-        preset.max_spheres,
-        {.on_frame =
-             [&](link::World&& w) {
-               const core::FixedFormat f{32, w.frac_bits, true};
-               std::cout << "frame " << decoded << ": sequence " << w.sequence << ", " << int(w.frac_bits)
-                         << " fractional bits, " << w.spheres.size() << " spheres\n";
-               for (std::size_t i = 0; i < w.spheres.size(); ++i) {
-                 const auto& s = w.spheres[i];
-                 std::ostringstream extra;
-                 extra << ", " << scene::material_name(static_cast<scene::MaterialType>(s.material)) << " albedo (" << int(s.albedo[0]) << ", " << int(s.albedo[1])
-                       << ", " << int(s.albedo[2]) << ")/255, fuzz " << s.fuzz / link::kV2FuzzScale << ", ior "
-                       << s.ior / link::kV2IorScale;
-                 print_sphere(i, f.to_double(s.x), f.to_double(s.y), f.to_double(s.z), f.to_double(s.radius),
-                              extra.str());
-               }
-               ++decoded;
-             },
-         .on_error =
-             [&](const link::V2Failure& failure, std::size_t dropped) {
-               std::cerr << source << ": byte " << failure.offset << ": " << link::to_string(failure.error) << ": "
-                         << failure.detail << " (" << dropped << " bytes dropped)\n";
-               ++errors;
-             }});
-    decoder.push(bytes);
-    decoder.end_of_stream();
+    decode_frames(wire, preset, bytes, d);
   }
-  if (decoded == 0 && errors == 0) {
-    std::cerr << source << ": no " << o.wire << " data in " << bytes.size() << " bytes\n";
-    return kExitBadInput;
+  if (bytes.empty()) std::cerr << d.source << ": no " << o.wire << " data: the input is empty\n";
+  if (o.json) {
+    const nlohmann::json doc = {{"wire", o.wire},
+                                {"bytes", bytes.size()},
+                                {"accepted", d.accepted},
+                                {"rejected", d.rejected},
+                                {"replayed", d.replayed},
+                                {"missing", d.missing},
+                                {"sessions", d.sessions},
+                                {"garbage_runs", d.garbage_runs},
+                                {"bytes_dropped", d.bytes_dropped},
+                                {"problems", d.problems}};
+    std::cout << doc.dump(2) << "\n";
+  } else {
+    std::cout << "shown " << d.accepted.size() << ", rejected " << d.rejected << ", replayed " << d.replayed
+              << ", missing " << d.missing << ", garbage runs " << d.garbage_runs << ", bytes dropped "
+              << d.bytes_dropped << "\n";
   }
-  return errors == 0 ? kExitOk : kExitBadInput;
+  const bool all_shown = !bytes.empty() && d.rejected == 0 && d.replayed == 0 && d.garbage_runs == 0;
+  return all_shown ? kExitOk : kExitBadInput;
 }
 
 }  // namespace
@@ -108,16 +255,46 @@ void add_link_command(CLI::App& app, Action& run) {
   auto o = std::make_shared<LinkOptions>();
   CLI::App* cmd = app.add_subcommand("link", "Encode a scene as link bytes, or decode link bytes");
   cmd->require_subcommand(1);
-  CLI::App* enc = cmd->add_subcommand("encode", "Write the host's encoded world for a scene to standard output");
+  CLI::App* enc = cmd->add_subcommand(
+      "encode",
+      "Write the host's encoded worlds of a scene to standard output, one after another, numbered as the link "
+      "numbers them; a summary goes to standard error");
   enc->add_option("--scene", o->scene, "Built-in scene name or JSON scene file")->capture_default_str();
-  enc->add_option("--wire", o->wire, "v1 (one 8-byte word per sphere) or v2 (one framed world)")->capture_default_str();
+  enc->add_option("--wire", o->wire,
+                  "v1 (one 8-byte word per sphere, no numbers), v2 (framed worlds numbered 1 to N) or v3 (framed "
+                  "worlds numbered 1 to N in a session)")
+      ->capture_default_str();
   enc->add_option("--preset", o->preset, "Device preset whose number formats the host rounds to")->capture_default_str();
+  enc->add_option("--worlds", o->worlds, "Worlds to write (N), the camera orbiting its target between them")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  enc->add_option("--orbit", o->orbit,
+                  "Degrees the camera circles its target over the N worlds: each world is DEG/N further on than "
+                  "the one before, the first as the scene has it (as render --frames N --orbit DEG)")
+      ->capture_default_str()
+      ->check(CLI::Range(-36000.0, 36000.0));
+  enc->add_option("--session", o->session,
+                  "v3: the session the worlds carry, 1 to 4294967295 (default: a random one, as a host that "
+                  "starts chooses)")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{UINT32_MAX}));
   enc->callback([o, &run] { run = [o] { return run_encode(*o); }; });
   CLI::App* dec = cmd->add_subcommand(
-      "decode", "Print what the device decodes from link bytes; exit 2 with the reason if it rejects any");
-  dec->add_option("--wire", o->wire, "v1 or v2")->capture_default_str();
-  dec->add_option("--preset", o->preset, "Device preset (its scene memory limits the sphere count)")->capture_default_str();
+      "decode",
+      "Print what a device makes of a stream of link bytes under its rules: each world it shows (stdout), and each "
+      "problem (stderr: FILE: byte N: error: detail (K bytes dropped)), including worlds it does not show because "
+      "they are replays (v3: not newer than the last of their session, or of a session that has ended). Exit 0 "
+      "when every byte was in a world the device shows (numbers missing between them do not change that); 2 when anything was rejected, dropped or replayed, or the "
+      "input is empty");
+  dec->add_option("--wire", o->wire, "v1, v2 (the earlier framed wire) or v3")->capture_default_str();
+  dec->add_option("--preset", o->preset,
+                  "Device preset: its scene memory limits the sphere count, its number formats the content")
+      ->capture_default_str();
   dec->add_option("--in", o->input, "Input file ('-' is standard input)")->capture_default_str();
+  dec->add_flag("--json", o->json,
+                "Print one JSON object on stdout instead of the worlds (printed on exit 2 too): accepted (the "
+                "sequence numbers of the worlds shown, in order; v1: the words' places in the stream, from 1), "
+                "rejected (damaged or refused frames), replayed, missing (numbers skipped: worlds lost), sessions, "
+                "garbage_runs, bytes_dropped, bytes, wire and problems (offset, error, detail, bytes)");
   dec->callback([o, &run] { run = [o] { return run_decode(*o); }; });
 }
 

@@ -412,7 +412,7 @@ void add_render_command(CLI::App& app, Action& run) {
   cmd->add_option("--bounces", o->bounces,
                   "Device mirror bounces off metal spheres, 0..6 (default: the preset's); also used by --mode normal")
       ->check(CLI::Range(0, 6));
-  cmd->add_option("--wire", o->wire, "Link protocol: v1 (the board's sphere word; the device shows the last sphere) or v2")
+  cmd->add_option("--wire", o->wire, "Link protocol: v1 (the board's sphere word; the device shows the last sphere), v2 (framed worlds) or v3 (framed worlds with a header check and sessions)")
       ->capture_default_str();
   cmd->add_option("--width", o->width, "Image width, normal and path modes (default: the scene's render.width; hw is 640)")
       ->check(CLI::Range(1, scene::kMaxImageSide));

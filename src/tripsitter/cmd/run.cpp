@@ -18,7 +18,7 @@ struct RunCommandOptions {
   std::string mode = "hw";
   std::string preset = "wide";
   int workers = 0;
-  std::string wire = "v2";
+  std::string wire = "v3";
   int scale = 1;
   std::string screenshot_dir = ".";
   std::uint64_t seed = 1;
@@ -81,7 +81,7 @@ void add_run_command(CLI::App& app, Action& run) {
                   "along one path (default: the scene's render.max_depth)")
       ->check(CLI::Range(1, scene::kMaxDepth));
   cmd->add_option("--workers", o->workers, "Number of device workers (default: the preset's)")->check(CLI::Range(1, 640));
-  cmd->add_option("--wire", o->wire, "Link protocol, v1 or v2")->capture_default_str();
+  cmd->add_option("--wire", o->wire, "Link protocol, v1, v2 or v3")->capture_default_str();
   cmd->add_option("--scale", o->scale, "Window size as a multiple of 640x480")->capture_default_str()->check(CLI::Range(1, 8));
   cmd->add_option("--screenshot-dir", o->screenshot_dir, "Where F12 writes tripsitter-N.png")->capture_default_str();
   cmd->add_option("--seed", o->seed, "path: random seed")->capture_default_str();

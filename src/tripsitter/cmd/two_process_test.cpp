@@ -6,6 +6,11 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,6 +27,8 @@
 #include <gtest/gtest.h>
 
 #include <tripsitter/board/board.h>
+#include <tripsitter/core/crc32.h>
+#include <tripsitter/link/frame.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/host/controls.h>
 #include <tripsitter/scene/builtin.h>
@@ -105,17 +112,57 @@ class Process {
     return WIFEXITED(*status_) ? WEXITSTATUS(*status_) : -1;
   }
   std::string err() const { return slurp(err_); }
+  // The largest resident set it had, in kilobytes, once it has ended.
+  long max_rss_kb() const { return max_rss_kb_; }
 
  private:
   void poll() {
     if (pid_ <= 0 || status_) return;
     int status = 0;
-    if (::waitpid(pid_, &status, WNOHANG) == pid_) status_ = status;
+    rusage usage{};
+    if (::wait4(pid_, &status, WNOHANG, &usage) == pid_) {
+      status_ = status;
+      max_rss_kb_ = usage.ru_maxrss;
+    }
   }
 
   pid_t pid_ = -1;
   std::optional<int> status_;
+  long max_rss_kb_ = 0;
   fs::path err_;
+};
+
+// A peer that speaks to the device byte by byte, as no well-behaved host would: over a plain socket.
+class RawPeer {
+ public:
+  explicit RawPeer(int port) : fd_(::socket(AF_INET, SOCK_STREAM, 0)) {
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    connected_ = fd_ >= 0 && ::connect(fd_, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0;
+  }
+  RawPeer(const RawPeer&) = delete;
+  RawPeer& operator=(const RawPeer&) = delete;
+  ~RawPeer() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  bool connected() const { return connected_; }
+  bool send(const std::vector<std::uint8_t>& bytes) const {
+    return ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(bytes.size());
+  }
+  // The next byte from the device, or -1 when it closed the connection, or -2 when nothing came in `limit`.
+  int read_byte(std::chrono::seconds limit = 30s) const {
+    pollfd p{fd_, POLLIN, 0};
+    if (::poll(&p, 1, static_cast<int>(std::chrono::milliseconds(limit).count())) <= 0) return -2;
+    std::uint8_t b = 0;
+    const ssize_t n = ::recv(fd_, &b, 1, 0);
+    return n == 1 ? b : -1;
+  }
+
+ private:
+  int fd_;
+  bool connected_ = false;
 };
 
 struct HeldKey {
@@ -148,10 +195,13 @@ class TwoProcesses : public ::testing::Test {
 
   void write(const std::string& name, const std::string& text) const { std::ofstream(path(name)) << text; }
 
-  // Starts the headless device on a port of the system's choice and reads the port from its stderr.
-  void start_device(const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> args{"device", "--listen", "127.0.0.1:0", "--headless", "--out-dir", frames().string()};
+  // Starts the headless device on a port of the system's choice (or on `port`, to restart it where it was)
+  // and reads the port from its stderr.
+  void start_device(const std::vector<std::string>& extra = {}, const std::string& port_wanted = "0") {
+    std::vector<std::string> args{"device", "--listen", "127.0.0.1:" + port_wanted, "--headless", "--out-dir",
+                                  frames().string()};
     args.insert(args.end(), extra.begin(), extra.end());
+    device_.reset();
     device_.emplace(args, path("device.out"), path("device.err"));
     ASSERT_TRUE(device_->started());
     ASSERT_TRUE(eventually([&] { return !listening_port(device_->err()).empty() || !device_->running(); }, 30s));
@@ -414,6 +464,146 @@ TEST_F(TwoProcesses, UsageErrorsExitTwoAndSayWhatAndWhere) {
   EXPECT_NE(err.find("port 99999 is above 65535"), std::string::npos) << err;
   EXPECT_EQ(run({"device", "--listen", "127.0.0.1:0", "--headless"}), 2);
   EXPECT_NE(err.find("--out-dir"), std::string::npos) << err;
+}
+
+// ---- The link under faults (docs/link_format.md, "Disconnects and other hosts") ----
+
+// The device is killed and started again on the same port while a host plays a script: the host reconnects
+// under a new session, and the restarted device shows the script's last world.
+TEST_F(TwoProcesses, AHostReconnectsToARestartedDevice) {
+  start_device();
+  const std::string port = address_.substr(address_.rfind(':') + 1);
+  write("keys.txt", "W 500ms\nwait 2s\nJ 200ms\n");
+  auto host = start_host("host", {"--keys", path("keys.txt").string()});
+  ASSERT_TRUE(eventually([&] { return !frame_files().empty() || !host->running(); }));
+  device_->signal(SIGKILL);
+  ASSERT_EQ(device_->wait(), -1);
+  start_device({}, port);
+  const std::optional<int> code = host->wait();
+  ASSERT_TRUE(code.has_value());
+  const std::string err = host->err();
+  EXPECT_EQ(*code, 0) << err;
+  EXPECT_NE(err.find("closed the connection; reconnecting"), std::string::npos) << err;
+  EXPECT_NE(err.find("reconnected to " + address_), std::string::npos) << err;
+  const Image444 want = expected_frame({{Key::kW, 30}, {Key::kJ, 12}});
+  const std::optional<Image444> got = newest_frame();
+  EXPECT_TRUE(got && *got == want) << describe_difference(got, want);
+  stop_device();
+  EXPECT_NE(device_->err().find("0 replayed, 0 rejected"), std::string::npos) << device_->err();
+}
+
+// Hostile and broken peers, one after the other, against one device: a host that sends a byte now and then,
+// a header announcing 4 GB with a CRC that matches, half a frame and gone. The device drops or refuses each,
+// never holds more memory than a world, and serves the next real host.
+TEST_F(TwoProcesses, HostilePeersCostTheDeviceNothing) {
+  start_device({"--host-timeout", "1"});
+  const int port = std::stoi(address_.substr(address_.rfind(':') + 1));
+  std::string err;
+  ASSERT_EQ(run_host("first", {"--fast"}, &err), 0) << err;
+  const Image444 first = expected_frame({});
+
+  {  // One byte every 200 ms: after a second without a world it is dropped.
+    RawPeer slow(port);
+    ASSERT_TRUE(slow.connected());
+    ASSERT_EQ(slow.read_byte(), 'R');
+    int answer = -2;
+    for (int i = 0; i < 100 && answer == -2; ++i) {
+      slow.send({0x54});
+      answer = slow.read_byte(std::chrono::seconds(0));
+      std::this_thread::sleep_for(200ms);
+    }
+    EXPECT_EQ(answer == -2 ? slow.read_byte(5s) : answer, -1) << "the device closes the connection";
+  }
+  ASSERT_TRUE(eventually([&] { return device_->err().find("without completing a world") != std::string::npos; }))
+      << device_->err();
+
+  {  // A header announcing 178,956,970 spheres (4 GB), honest CRC: refused at once, answered 'X'.
+    RawPeer greedy(port);
+    ASSERT_TRUE(greedy.connected());
+    ASSERT_EQ(greedy.read_byte(), 'R');
+    tripsitter::link::World w;
+    w.session = 5;
+    w.sequence = 1;
+    std::vector<std::uint8_t> header = tripsitter::link::encode_frame(tripsitter::link::WireVersion::kV3, w);
+    header.resize(tripsitter::link::kV3HeaderBytes - 4);
+    const std::uint32_t count = 178'956'970;
+    const std::uint32_t length = count * 24;
+    for (std::size_t k = 0; k < 4; ++k) {
+      header[16 + k] = static_cast<std::uint8_t>(count >> (24 - 8 * k));
+      header[20 + k] = static_cast<std::uint8_t>(length >> (24 - 8 * k));
+    }
+    const std::uint32_t crc = tripsitter::core::crc32(header);
+    for (int k = 0; k < 4; ++k) header.push_back(static_cast<std::uint8_t>(crc >> (24 - 8 * k)));
+    ASSERT_TRUE(greedy.send(header));
+    EXPECT_EQ(greedy.read_byte(), 'X');
+  }
+
+  {  // Half a frame, then gone.
+    RawPeer quitter(port);
+    ASSERT_TRUE(quitter.connected());
+    ASSERT_EQ(quitter.read_byte(), 'R');
+    tripsitter::link::World w;
+    w.session = 6;
+    w.sequence = 1;
+    w.frac_bits = 4;
+    w.spheres.resize(40, {0, 0, 6400, 1024, 0, {200, 0, 0}, 0, 6144});
+    const std::vector<std::uint8_t> frame = tripsitter::link::encode_frame(tripsitter::link::WireVersion::kV3, w);
+    ASSERT_TRUE(quitter.send(std::vector<std::uint8_t>(frame.begin(), frame.begin() + frame.size() / 2)));
+  }
+  ASSERT_TRUE(eventually([&] { return device_->err().find("truncated") != std::string::npos; })) << device_->err();
+  std::optional<Image444> got = newest_frame();
+  EXPECT_TRUE(got && *got == first) << describe_difference(got, first);  // the last good world stays
+
+  write("keys.txt", "E 100ms\n");
+  ASSERT_EQ(run_host("last", {"--keys", path("keys.txt").string(), "--fast"}, &err), 0) << err;
+  const Image444 last = expected_frame({{Key::kE, 6}});
+  got = newest_frame();
+  EXPECT_TRUE(got && *got == last) << describe_difference(got, last);
+
+  stop_device();
+  const std::string d = device_->err();
+  EXPECT_NE(d.find("too many spheres"), std::string::npos) << d;
+  EXPECT_NE(d.find("hosts: 5 served, 0 refused"), std::string::npos) << d;
+  // Its memory stays that of a device with one world: far below the 4 GB it was offered.
+  EXPECT_LT(device_->max_rss_kb(), 400 * 1024);
+}
+
+// Fifty hosts start at once: the first to connect is served and holds the device for its script; every other
+// one is told the device is busy and exits 1 saying so.
+TEST_F(TwoProcesses, OfFiftyHostsAtOnceOneIsServedAndTheOthersAreToldTheDeviceIsBusy) {
+  start_device();
+  write("keys.txt", "wait 60s\n");
+  std::vector<std::unique_ptr<Process>> hosts;
+  for (int i = 0; i < 50; ++i) {
+    std::string name = std::to_string(i);
+    name.insert(0, "host_");
+    hosts.push_back(start_host(name, {"--keys", path("keys.txt").string()}));
+  }
+  std::size_t busy = 0;
+  Process* served = nullptr;
+  ASSERT_TRUE(eventually([&] {
+    busy = 0;
+    served = nullptr;
+    for (auto& h : hosts) {
+      if (h->running()) {
+        served = h.get();
+      } else {
+        ++busy;
+      }
+    }
+    return busy == 49;
+  })) << busy << " of 50 hosts have exited";
+  for (auto& h : hosts) {
+    if (h.get() == served) continue;
+    EXPECT_EQ(h->wait(), 1);
+    EXPECT_NE(h->err().find("is busy with another host"), std::string::npos) << h->err();
+  }
+  ASSERT_NE(served, nullptr);
+  EXPECT_NE(served->err().find("host: connected to"), std::string::npos) << served->err();
+  served->signal(SIGKILL);
+  served->wait();
+  stop_device();
+  EXPECT_NE(device_->err().find("hosts: 1 served, 49 refused"), std::string::npos) << device_->err();
 }
 
 }  // namespace

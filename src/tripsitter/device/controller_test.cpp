@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <tripsitter/core/sphere_kernel.h>
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 
 namespace tripsitter::device {
 namespace {

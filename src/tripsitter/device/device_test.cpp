@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 
 #include "test_util.h"
 
@@ -115,7 +115,7 @@ std::vector<std::uint8_t> metal_frame(const DevicePreset& p, std::uint32_t seque
     ws.ior = 6144;
     w.spheres.push_back(ws);
   }
-  return link::encode_v2_frame(w);
+  return link::encode_frame(link::WireVersion::kV2, w);
 }
 
 TEST(Device, AMetalSphereFromTheWireReflectsTheBackground) {

@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 
 #include "test_util.h"
 

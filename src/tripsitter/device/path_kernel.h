@@ -39,7 +39,7 @@
 #include <tripsitter/device/path_rng.h>
 #include <tripsitter/device/scene_memory.h>
 #include <tripsitter/device/worker.h>
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 
 namespace tripsitter::device {
 

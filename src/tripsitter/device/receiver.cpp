@@ -35,21 +35,25 @@ Receiver::Receiver(const DevicePreset& preset, link::WireVersion wire)
     : preset_(preset),
       wire_(wire),
       v1_([this](const link::V1Sphere& word) { accept_v1(word); }),
-      v2_(preset.max_spheres,
-          {.on_frame = [this](link::World&& world) { accept_v2(std::move(world)); },
-           .on_error = [this](const link::V2Failure& failure, std::size_t bytes) {
-             if (failure.error == link::V2Error::kBadMagic) {
-               skip_garbage(bytes);
-             } else {
-               reject(std::string(link::to_string(failure.error)) + ": " + failure.detail, bytes);
-             }
-           }}) {}
+      // A v1 receiver has no frames; its frame decoder and rules are never fed.
+      frames_(wire == link::WireVersion::kV1 ? link::WireVersion::kV3 : wire, preset.max_spheres,
+              {.on_frame = [this](link::World&& world) { accept_frame(std::move(world)); },
+               .on_error =
+                   [this](const link::FrameFailure& failure, std::size_t bytes) {
+                     if (failure.error == link::FrameError::kBadMagic) {
+                       skip_garbage(bytes);
+                     } else if (!failure.intact ||
+                                admit(failure.intact->session, failure.intact->sequence, bytes)) {
+                       reject(std::string(link::to_string(failure.error)) + ": " + failure.detail, bytes);
+                     }
+                   }}),
+      sequence_(wire == link::WireVersion::kV1 ? link::WireVersion::kV3 : wire) {}
 
 void Receiver::receive(std::span<const std::uint8_t> bytes) {
   if (wire_ == link::WireVersion::kV1) {
     v1_.push(bytes);
   } else {
-    v2_.push(bytes);
+    frames_.push(bytes);
   }
 }
 
@@ -58,7 +62,7 @@ void Receiver::end_of_stream() {
     if (v1_.pending_bytes() > 0) reject("truncated: the stream ended inside a v1 word", v1_.pending_bytes());
     v1_.reset();
   } else {
-    v2_.end_of_stream();
+    frames_.end_of_stream();
   }
 }
 
@@ -90,7 +94,7 @@ void Receiver::accept_v1(const link::V1Sphere& word) {
   const std::uint8_t g = static_cast<std::uint8_t>(((word.colour >> 4) & 0xF) * 17);
   const std::uint8_t b = static_cast<std::uint8_t>((word.colour & 0xF) * 17);
   // A v1 word carries no ior: scene memory holds a scene material's default, 1.5, in the v2 wire's u4.12.
-  constexpr auto kIor = static_cast<std::uint16_t>(1.5 * link::kV2IorScale);
+  constexpr auto kIor = static_cast<std::uint16_t>(1.5 * link::kIorScale);
   back_.surfaces.assign(1, SurfaceWord{link::kMaterialLambertian, {r, g, b}, 0, kIor});
   back_.content = content_of(back_);
   back_.sequence = ++v1_words_;
@@ -100,8 +104,21 @@ void Receiver::accept_v1(const link::V1Sphere& word) {
   ++stats_.worlds_accepted;
 }
 
-void Receiver::accept_v2(link::World&& world) {
-  const std::size_t bytes = link::kV2HeaderBytes + world.spheres.size() * link::kV2SphereBytes + link::kV2TrailerBytes;
+bool Receiver::admit(std::uint32_t session, std::uint32_t sequence, std::size_t bytes) {
+  const link::SequenceCheck c = sequence_.check(session, sequence);
+  if (c.verdict == link::SequenceVerdict::kReplay) {
+    ++stats_.worlds_replayed;
+    stats_.bytes_dropped += bytes;
+    return false;
+  }
+  stats_.worlds_missing += c.missing;
+  if (c.new_session) ++stats_.sessions;
+  return true;
+}
+
+void Receiver::accept_frame(link::World&& world) {
+  const std::size_t bytes = link::frame_bytes(wire_, world.spheres.size());
+  if (!admit(world.session, world.sequence, bytes)) return;
   if (world.frac_bits != preset_.frac_bits()) {
     reject("format mismatch: frame has " + std::to_string(world.frac_bits) + " fractional bits, the device " +
                std::to_string(preset_.frac_bits()),
@@ -130,8 +147,6 @@ void Receiver::accept_v2(link::World&& world) {
     back_.surfaces[i] = {s.material, s.albedo, s.fuzz, s.ior};
   }
   back_.content = content_of(back_);
-  if (last_sequence_ && world.sequence > *last_sequence_) stats_.worlds_missing += world.sequence - *last_sequence_ - 1;
-  last_sequence_ = world.sequence;
   back_.sequence = world.sequence;
   back_.valid = true;
   if (pending_) ++stats_.worlds_replaced;

@@ -13,7 +13,8 @@
 #include <tripsitter/device/scene_memory.h>
 #include <tripsitter/link/wire.h>
 #include <tripsitter/link/wire_v1.h>
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
+#include <tripsitter/link/sequence.h>
 
 namespace tripsitter::device {
 
@@ -22,12 +23,15 @@ struct ReceiverStats {
   std::uint64_t worlds_replaced = 0;   // accepted while an earlier one still waited for the swap
   std::uint64_t frames_rejected = 0;   // damaged or unacceptable frames (or v1 words) dropped
   std::uint64_t garbage_runs = 0;      // runs of bytes between frames that were no frame at all
-  std::uint64_t bytes_dropped = 0;     // in both
-  // v2 only: sequence numbers skipped between consecutive accepted worlds, so worlds the host numbered that
-  // never reached scene memory: lost on the link, rejected, or replaced at the host before they went out.
-  // A sequence number at or below the previous accepted one (a repeat, a host that started again) skips
-  // nothing. docs/link_format.md, "What the receiver counts".
+  std::uint64_t bytes_dropped = 0;     // in both, and in replays
+  // v2 and v3: sequence numbers skipped, so worlds a host sent that never arrived intact: what the link lost
+  // (docs/link_format.md, "Sessions and sequence numbers"). Worlds that arrived intact and were rejected for
+  // their content are in frames_rejected, not here.
   std::uint64_t worlds_missing = 0;
+  // v3: intact worlds not newer than the last one of their session, or of a session that has ended; never
+  // shown (a duplicated transfer, an old frame sent again).
+  std::uint64_t worlds_replayed = 0;
+  std::uint64_t sessions = 0;          // v2 and v3: host sessions begun (v2: the first world only)
   std::string last_error;              // why the last frame was rejected
 };
 
@@ -48,18 +52,21 @@ class Receiver {
 
  private:
   void accept_v1(const link::V1Sphere& word);
-  void accept_v2(link::World&& world);
+  void accept_frame(link::World&& world);
+  // The sequence rules for a frame of `bytes` bytes that arrived intact; false if it must not be shown (a
+  // replay, whose bytes are dropped).
+  bool admit(std::uint32_t session, std::uint32_t sequence, std::size_t bytes);
   void reject(const std::string& why, std::size_t bytes);
   void skip_garbage(std::size_t bytes);
 
   DevicePreset preset_;
   link::WireVersion wire_;
   link::V1StreamDecoder v1_;
-  link::V2StreamDecoder v2_;
+  link::FrameStreamDecoder frames_;   // v2 and v3
+  link::SequenceRules sequence_;
   SceneMemory back_;
   bool pending_ = false;
   std::uint32_t v1_words_ = 0;
-  std::optional<std::uint32_t> last_sequence_;  // of the last accepted v2 world
   ReceiverStats stats_;
 };
 

@@ -127,14 +127,14 @@ TEST(Receiver, SkippedSequenceNumbersCountMissingWorlds) {
   EXPECT_EQ(rx.stats().worlds_missing, 4u);  // and 103 to 105, which never came at all
 }
 
-TEST(Receiver, AWorldRejectedUnderAGoodCrcIsMissing) {
+TEST(Receiver, AWorldRejectedUnderAGoodCrcIsRejectedNotMissing) {
   const DevicePreset p = board_2023_preset();
   Receiver rx(p, link::WireVersion::kV2);
   rx.receive(frame_of(p, 1, {{0, 0, 400, 64}}));
   rx.receive(frame_of(wide_preset(), 2, {{0, 0, 400, 64}}));  // another format
   rx.receive(frame_of(p, 3, {{0, 0, 400, 64}}));
   EXPECT_EQ(rx.stats().frames_rejected, 1u);
-  EXPECT_EQ(rx.stats().worlds_missing, 1u);
+  EXPECT_EQ(rx.stats().worlds_missing, 0u) << "world 2 arrived; the link lost nothing";
 }
 
 TEST(Receiver, ARepeatOrAHostStartingAgainSkipsNothing) {
@@ -145,6 +145,47 @@ TEST(Receiver, ARepeatOrAHostStartingAgainSkipsNothing) {
   EXPECT_EQ(rx.stats().worlds_missing, 0u);
   rx.receive(frame_of(p, 4, {{0, 0, 400, 64}}));  // counted from the new host's world 2
   EXPECT_EQ(rx.stats().worlds_missing, 1u);
+}
+
+TEST(Receiver, V3NeverShowsAReplayAndTakesARestartedHostFromItsFirstWorld) {
+  const DevicePreset p = wide_preset();
+  Receiver rx(p, link::WireVersion::kV3);
+  SceneMemory front;
+  const auto world = [&p](std::uint32_t session, std::uint32_t sequence, double z) {
+    return testing::frame_on(link::WireVersion::kV3, p, session, sequence, {{0, 0, z, 64}});
+  };
+  rx.receive(world(7, 1, 400));
+  rx.receive(world(7, 2, 410));
+  ASSERT_TRUE(rx.swap_if_pending(front));
+  EXPECT_EQ(front.sequence, 2u);
+  rx.receive(world(7, 2, 410));  // a duplicated transfer
+  rx.receive(world(7, 1, 400));  // an old frame sent again
+  EXPECT_FALSE(rx.swap_if_pending(front));
+  EXPECT_EQ(rx.stats().worlds_replayed, 2u);
+  EXPECT_TRUE(rx.ready()) << "a replay does not lower the ready line";
+  rx.receive(world(9, 1, 500));  // the host restarted with a new session
+  ASSERT_TRUE(rx.swap_if_pending(front));
+  EXPECT_EQ(front.sequence, 1u);
+  EXPECT_EQ(front.geometry[0].center.z, p.z.quantize(500).raw);
+  rx.receive(world(7, 3, 420));  // the old session has ended
+  EXPECT_FALSE(rx.swap_if_pending(front));
+  EXPECT_EQ(rx.stats().worlds_replayed, 3u);
+  EXPECT_EQ(rx.stats().sessions, 2u);
+  EXPECT_EQ(rx.stats().worlds_missing, 0u);
+  EXPECT_EQ(rx.stats().worlds_accepted, 3u);
+  EXPECT_EQ(rx.stats().frames_rejected, 0u);
+}
+
+TEST(Receiver, V3CountsExactlyTheWorldsTheLinkLost) {
+  const DevicePreset p = wide_preset();
+  Receiver rx(p, link::WireVersion::kV3);
+  for (const std::uint32_t sequence : {1u, 2u, 5u, 6u, 9u}) {  // 3, 4, 7 and 8 lost
+    rx.receive(testing::frame_on(link::WireVersion::kV3, p, 3, sequence, {{0, 0, 400, 64}}));
+  }
+  rx.receive(testing::frame_on(link::WireVersion::kV3, board_2023_preset(), 3, 10, {{0, 0, 400, 64}}));
+  rx.receive(testing::frame_on(link::WireVersion::kV3, p, 3, 11, {{0, 0, 400, 64}}));
+  EXPECT_EQ(rx.stats().worlds_missing, 4u) << "world 10 arrived intact; rejected for its format, not lost";
+  EXPECT_EQ(rx.stats().frames_rejected, 1u);
 }
 
 TEST(Receiver, V1CountsNoMissingWorlds) {

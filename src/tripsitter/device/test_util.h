@@ -10,14 +10,15 @@
 
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/fast_tracer.h>
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 
 namespace tripsitter::device::testing {
 
-// A v2 frame of spheres given in pixel units, in the preset's format (lambertian grey).
-inline std::vector<std::uint8_t> frame_of(const DevicePreset& preset, std::uint32_t sequence,
-                                          const std::vector<std::array<double, 4>>& xyzr) {
+// A frame of spheres given in pixel units, in the preset's format (lambertian grey), on a framed wire.
+inline std::vector<std::uint8_t> frame_on(link::WireVersion wire, const DevicePreset& preset, std::uint32_t session,
+                                          std::uint32_t sequence, const std::vector<std::array<double, 4>>& xyzr) {
   link::World w;
+  w.session = session;
   w.sequence = sequence;
   w.frac_bits = static_cast<std::uint8_t>(preset.frac_bits());
   for (const auto& s : xyzr) {
@@ -30,7 +31,13 @@ inline std::vector<std::uint8_t> frame_of(const DevicePreset& preset, std::uint3
     ws.ior = 6144;
     w.spheres.push_back(ws);
   }
-  return link::encode_v2_frame(w);
+  return link::encode_frame(wire, w);
+}
+
+// The same as a v2 frame.
+inline std::vector<std::uint8_t> frame_of(const DevicePreset& preset, std::uint32_t sequence,
+                                          const std::vector<std::array<double, 4>>& xyzr) {
+  return frame_on(link::WireVersion::kV2, preset, 0, sequence, xyzr);
 }
 
 // The visible pixels of one frame, read straight from the VGA samples by counting clocks from the start
@@ -170,7 +177,7 @@ inline std::vector<std::uint8_t> path_frame_of(const DevicePreset& preset, std::
     ws.ior = b.ior;
     w.spheres.push_back(ws);
   }
-  return link::encode_v2_frame(w);
+  return link::encode_frame(link::WireVersion::kV2, w);
 }
 
 // The v2 frame that puts exactly `scene` (raw geometry and surface words, one surface per sphere) into scene memory.
@@ -186,7 +193,7 @@ inline std::vector<std::uint8_t> frame_of_scene(const DevicePreset& preset, std:
                          static_cast<std::int32_t>(g.center.z), static_cast<std::uint32_t>(g.radius), s.material,
                          s.albedo, s.fuzz, s.ior});
   }
-  return link::encode_v2_frame(w);
+  return link::encode_frame(link::WireVersion::kV2, w);
 }
 
 // A random surface of any material: albedos anywhere in 0..255 (often 255, the exact 1), metals with and

@@ -17,7 +17,7 @@
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/scene_memory.h>
 #include <tripsitter/device/sqrt_unit.h>
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 
 // Checks of the device's fixed-point invariants (docs/device.md, "Widths"): 1 compiles them in. Unless the
 // build defines it (CMake's TRIPSITTER_CHECK_FIXED, for every target using the device library; on in the

@@ -81,7 +81,7 @@ const std::vector<ParameterRule>& rules() {
            [](Configuration& c, const std::string& v) { c.transfer_bytes = to_int(v); });
     word("memory", "where frame memory lives (path)", Applies::kPath, {"external", "bram"},
          [](Configuration& c, const std::string& v) { c.frame_memory = v; });
-    word("wire", "the link's wire format (v1 words carry no material: normal-shaded)", Applies::kAny, {"v1", "v2"},
+    word("wire", "the link's wire format (v1 words carry no material: normal-shaded)", Applies::kAny, {"v1", "v2", "v3"},
          [](Configuration& c, const std::string& v) { c.wire = v; });
     return r;
   }();
@@ -198,7 +198,7 @@ Configuration preset_configuration(const std::string& scene, const std::string& 
   c.spi_hz = spi.clock_hz;
   c.transfer_bytes = static_cast<std::int64_t>(spi.max_transfer_bytes);
   c.frame_memory = preset->path ? "external" : "";
-  c.wire = "v2";
+  c.wire = "v3";
   return c;
 }
 
@@ -284,7 +284,7 @@ std::vector<std::string> default_sweeps() {
       "preset=path,workers=3,8,spp=1,frames=1,4,16",
       "preset=path,memory=external,bram",
       // The link: SPI clock and transfer size, for both wires, with workers enough that the link alone limits.
-      "preset=board-2023,workers=96,spi=0.01,0.02,0.05,0.1,0.2,0.5,1,10,transfer=64,1024,wire=v1,v2",
+      "preset=board-2023,workers=96,spi=0.01,0.02,0.05,0.1,0.2,0.5,1,10,transfer=64,1024,wire=v1,v2,v3",
   };
 }
 

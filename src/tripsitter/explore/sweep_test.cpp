@@ -73,7 +73,7 @@ TEST(Sweep, ExpandIsEveryCombinationPerSceneInOrder) {
   // What the sweep does not name keeps the preset's value.
   EXPECT_EQ(configs[0].frac_bits, 3);
   EXPECT_EQ(configs[0].capacity, 64);
-  EXPECT_EQ(configs[0].wire, "v2");
+  EXPECT_EQ(configs[0].wire, "v3");
 }
 
 TEST(Sweep, ExpandRunsAConfigurationMetTwiceOnce) {

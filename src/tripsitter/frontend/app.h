@@ -25,7 +25,7 @@ struct AppConfig {
   scene::Scene scene;
   Mode mode = Mode::kHw;
   device::DevicePreset preset = device::wide_preset();
-  link::WireVersion wire = link::WireVersion::kV2;
+  link::WireVersion wire = link::WireVersion::kV3;
   std::string screenshot_dir = ".";
   std::uint64_t seed = 1;      // path mode
   int max_depth = 0;           // path mode: bounces along one path (0: the scene's render.max_depth)

@@ -49,8 +49,8 @@ link::WireSphere to_wire(const scene::Sphere& s, const link::SceneFormats& forma
   if (r.saturated || r.raw < 1) ++sat.radii;
   w.material = static_cast<std::uint8_t>(s.material.type);
   w.albedo = {unit_to_byte(s.material.albedo.x), unit_to_byte(s.material.albedo.y), unit_to_byte(s.material.albedo.z)};
-  w.fuzz = to_u16(s.material.fuzz, link::kV2FuzzScale);
-  w.ior = std::max<std::uint16_t>(to_u16(s.material.ior, link::kV2IorScale), 1);
+  w.fuzz = to_u16(s.material.fuzz, link::kFuzzScale);
+  w.ior = std::max<std::uint16_t>(to_u16(s.material.ior, link::kIorScale), 1);
   if (w.material == link::kMaterialDielectric && (w.ior < formats.ior_min || w.ior > formats.ior_max)) {
     w.ior = std::clamp(w.ior, formats.ior_min, formats.ior_max);
     ++sat.iors;
@@ -78,7 +78,6 @@ std::vector<scene::Sphere> Host::view() const {
 
 const ReadyWorld& Host::update() {
   ReadyWorld next;
-  next.sequence = ++sequence_;
   const std::vector<scene::Sphere> view = this->view();
   next.spheres = view.size();
   next.spheres_dropped = world_.size() - view.size();
@@ -86,12 +85,12 @@ const ReadyWorld& Host::update() {
     // The board's stream: one word per sphere; the device keeps the latest.
     for (const auto& v : view) link::append_v1_bytes(link::encode_v1_word(to_v1(v, next.saturations)), next.bytes);
   } else {
+    // Session and sequence number are the link's to give, as the world goes out (link/sequence.h).
     link::World world;
-    world.sequence = next.sequence;
     world.frac_bits = static_cast<std::uint8_t>(formats_.x.frac_bits);
     world.spheres.reserve(view.size());
     for (const auto& v : view) world.spheres.push_back(to_wire(v, formats_, next.saturations));
-    next.bytes = link::encode_v2_frame(world);
+    next.bytes = link::encode_frame(wire_, world);
   }
   total_saturations_.coordinates += next.saturations.coordinates;
   total_saturations_.radii += next.saturations.radii;

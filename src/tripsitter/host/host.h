@@ -13,7 +13,7 @@
 #include <tripsitter/host/view.h>
 #include <tripsitter/link/wire.h>
 #include <tripsitter/link/wire_v1.h>
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 #include <tripsitter/scene/scene.h>
 
 namespace tripsitter::host {
@@ -27,8 +27,8 @@ struct Saturations {
 
 // What one update produced.
 struct ReadyWorld {
-  std::uint32_t sequence = 0;
-  std::vector<std::uint8_t> bytes;            // the encoded world, ready for the link
+  // The encoded world, ready for the link, which numbers it as it goes out (session and sequence 0 here).
+  std::vector<std::uint8_t> bytes;
   std::size_t spheres = 0;                    // in it
   Saturations saturations;
   std::size_t spheres_dropped = 0;            // beyond the device's scene memory (never sent)
@@ -62,7 +62,6 @@ class Host {
   double units_per_world_;
   link::SceneFormats formats_;
   link::WireVersion wire_;
-  std::uint32_t sequence_ = 0;
   ReadyWorld ready_;
   Saturations total_saturations_;
 };

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <tripsitter/link/sequence.h>
 #include <tripsitter/scene/builtin.h>
 
 namespace tripsitter::host {
@@ -20,11 +21,28 @@ TEST(Host, DemoSceneIsTheBoardsSphereInViewSpace) {
   const ReadyWorld& w = h.update();
   EXPECT_EQ(w.spheres, 1u);
   EXPECT_EQ(w.saturations.total(), 0u);
-  const auto decoded = link::decode_v2_frame(w.bytes, 4096);
+  const auto decoded = link::decode_frame(link::WireVersion::kV2, w.bytes, 4096);
   ASSERT_TRUE(decoded.ok());
   EXPECT_EQ(decoded.value().spheres[0].z, 400 * 16);
   EXPECT_EQ(decoded.value().spheres[0].radius, 64u * 16u);
-  EXPECT_EQ(decoded.value().sequence, w.sequence);
+  EXPECT_EQ(decoded.value().sequence, 0u) << "numbers are the link's to give, as a world goes out";
+}
+
+TEST(Host, EncodesV3FramesForTheLinkToNumber) {
+  Host h(*scene::builtin("demo"), kWide, link::WireVersion::kV3);
+  std::vector<std::uint8_t> bytes = h.update().bytes;
+  const auto unnumbered = link::decode_frame(link::WireVersion::kV3, bytes, 4096);
+  ASSERT_TRUE(unnumbered.ok());
+  EXPECT_EQ(unnumbered.value().session, 0u);
+  EXPECT_EQ(unnumbered.value().sequence, 0u);
+  link::Numbering numbering(link::WireVersion::kV3, 77);
+  numbering.stamp(bytes);
+  numbering.stamp(bytes);
+  const auto numbered = link::decode_frame(link::WireVersion::kV3, bytes, 4096);
+  ASSERT_TRUE(numbered.ok()) << numbered.error().detail;
+  EXPECT_EQ(numbered.value().session, 77u);
+  EXPECT_EQ(numbered.value().sequence, 2u);
+  EXPECT_EQ(numbered.value().spheres, unnumbered.value().spheres);
 }
 
 TEST(Host, WorldUpIsScreenUp) {
@@ -56,7 +74,7 @@ TEST(HostView, IsThePureFunctionOfWorldAndCamera) {
     EXPECT_EQ(h.view()[i].radius, view[i].radius);
   }
   // The update encodes exactly that world.
-  const auto decoded = link::decode_v2_frame(h.update().bytes, 4096);
+  const auto decoded = link::decode_frame(link::WireVersion::kV2, h.update().bytes, 4096);
   ASSERT_TRUE(decoded.ok());
   ASSERT_EQ(decoded.value().spheres.size(), view.size());
   EXPECT_EQ(decoded.value().spheres[2].z, kWide.z.quantize(view[2].center.z).raw);
@@ -92,7 +110,7 @@ TEST(Host, AnIndexOfRefractionBeyondTheDevicesRangeIsSaturatedAndCounted) {
   const ReadyWorld& w = h.update();
   EXPECT_EQ(w.saturations.iors, 1u);
   EXPECT_EQ(w.saturations.total(), 1u);
-  EXPECT_EQ(link::decode_v2_frame(w.bytes, 1).value().spheres[0].ior, 32768);
+  EXPECT_EQ(link::decode_frame(link::WireVersion::kV2, w.bytes, 1).value().spheres[0].ior, 32768);
   // The wire's own range takes it as it is.
   EXPECT_EQ(Host(s, kWide, link::WireVersion::kV2).update().saturations.total(), 0u);
 }
@@ -116,7 +134,7 @@ TEST(Host, SpheresBeyondSceneMemoryAreDroppedAndCounted) {
   Host h(scene::random_spheres(10, 1), small, link::WireVersion::kV2);
   const ReadyWorld& w = h.update();
   EXPECT_EQ(w.spheres_dropped, 7u);
-  EXPECT_EQ(link::decode_v2_frame(w.bytes, 3).value().spheres.size(), 3u);
+  EXPECT_EQ(link::decode_frame(link::WireVersion::kV2, w.bytes, 3).value().spheres.size(), 3u);
 }
 
 TEST(Host, ResetRestoresTheCamera) {

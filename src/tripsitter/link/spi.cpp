@@ -5,7 +5,8 @@
 
 namespace tripsitter::link {
 
-SpiLink::SpiLink(SpiConfig config) : config_(config) {
+SpiLink::SpiLink(SpiConfig config, std::optional<Numbering> numbering)
+    : config_(config), numbering_(std::move(numbering)) {
   if (config_.max_transfer_bytes == 0) throw std::invalid_argument("SPI transfer size must be at least 1 byte");
   if (config_.clock_hz <= 0) throw std::invalid_argument("SPI clock must be positive");
 }
@@ -18,6 +19,7 @@ void SpiLink::submit(std::vector<std::uint8_t> world_bytes) {
 
 bool SpiLink::pump(Endpoint& device) {
   if (!pending_ || !device.ready()) return false;
+  if (numbering_) numbering_->stamp(pending_bytes_);
   const std::span<const std::uint8_t> all(pending_bytes_);
   for (std::size_t at = 0; at < all.size(); at += config_.max_transfer_bytes) {
     device.transfer(all.subspan(at, std::min(config_.max_transfer_bytes, all.size() - at)));

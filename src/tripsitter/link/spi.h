@@ -4,8 +4,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
+
+#include <tripsitter/link/sequence.h>
 
 namespace tripsitter::link {
 
@@ -34,7 +37,9 @@ struct SpiStats {
 
 class SpiLink {
  public:
-  explicit SpiLink(SpiConfig config = {});
+  // With `numbering`, each world gets its sequence number (and session) as it starts to go out, so the host
+  // numbers only the worlds it sends; without, the bytes go out as submitted (tests that number by hand).
+  explicit SpiLink(SpiConfig config = {}, std::optional<Numbering> numbering = std::nullopt);
 
   // Host side: a complete encoded world to send. A world that has not started to go out is replaced.
   void submit(std::vector<std::uint8_t> world_bytes);
@@ -47,9 +52,11 @@ class SpiLink {
   double seconds_for(std::size_t bytes) const;
   const SpiConfig& config() const { return config_; }
   const SpiStats& stats() const { return stats_; }
+  const std::optional<Numbering>& numbering() const { return numbering_; }
 
  private:
   SpiConfig config_;
+  std::optional<Numbering> numbering_;
   std::vector<std::uint8_t> pending_bytes_;
   bool pending_ = false;
   SpiStats stats_;

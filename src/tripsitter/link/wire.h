@@ -9,11 +9,14 @@
 
 namespace tripsitter::link {
 
-enum class WireVersion { kV1, kV2 };
+// v1: the board's sphere word; v2: framed worlds; v3: framed worlds with a header check and a session
+// (docs/link_format.md). v3 is the default everywhere.
+enum class WireVersion { kV1, kV2, kV3 };
 
 inline std::optional<WireVersion> wire_by_name(std::string_view name) {
   if (name == "v1") return WireVersion::kV1;
   if (name == "v2") return WireVersion::kV2;
+  if (name == "v3") return WireVersion::kV3;
   return std::nullopt;
 }
 

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include <tripsitter/core/screen.h>
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 
 namespace tripsitter::modes {
 
@@ -27,8 +27,8 @@ std::vector<scene::Sphere> scene_memory_spheres(const device::SceneMemory& memor
         default: s.material.type = scene::MaterialType::kLambertian; break;
       }
       s.material.albedo = {w.albedo[0] / 255.0, w.albedo[1] / 255.0, w.albedo[2] / 255.0};
-      s.material.fuzz = w.fuzz / link::kV2FuzzScale;
-      s.material.ior = w.ior / link::kV2IorScale;
+      s.material.fuzz = w.fuzz / link::kFuzzScale;
+      s.material.ior = w.ior / link::kIorScale;
     }
     out.push_back(s);
   }

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 #include <tripsitter/scene/builtin.h>
 
 namespace tripsitter::modes {

@@ -41,7 +41,7 @@ struct SourceConfig {
   // hw: the device and the link. normal: the device's mirror bounces and scene memory (the float reference
   // renders the world the device would hold).
   device::DevicePreset preset = device::wide_preset();
-  link::WireVersion wire = link::WireVersion::kV2;
+  link::WireVersion wire = link::WireVersion::kV3;
   link::SpiConfig spi;                 // hw
   int device_threads = 0;              // hw: threads the device model computes a frame's lines on (0: all)
   std::function<void(const device::VgaSample&)> probe;  // hw: sees every VGA sample (a VCD trace)

@@ -20,6 +20,8 @@ namespace {
 
 constexpr std::size_t kReadChunk = 64 * 1024;
 constexpr std::size_t kMaxReadPerService = 4 * 1024 * 1024;  // then the device draws a frame and comes back
+// Hosts that connect at once wait here until the device accepts them (to refuse all but one).
+constexpr int kListenBacklog = 128;
 
 std::string errno_text(int err) { return std::strerror(err); }
 
@@ -215,9 +217,9 @@ core::Result<StreamSocket, StreamError> connect_stream(const StreamAddress& addr
 // Host side
 
 StreamSender::StreamSender(StreamSocket socket, std::string peer, std::size_t max_transfer_bytes,
-                           std::chrono::milliseconds io_timeout)
+                           std::chrono::milliseconds io_timeout, std::optional<link::Numbering> numbering)
     : socket_(std::move(socket)), peer_(std::move(peer)), max_transfer_bytes_(max_transfer_bytes),
-      io_timeout_(io_timeout) {
+      io_timeout_(io_timeout), numbering_(std::move(numbering)) {
   if (max_transfer_bytes_ == 0) throw std::invalid_argument("transfer size must be at least 1 byte");
   set_nonblocking(socket_.fd());  // waits go through poll(), with their deadlines
 }
@@ -233,15 +235,17 @@ core::Result<bool, StreamError> StreamSender::read_answers() {
   std::uint8_t buf[256];
   for (;;) {
     const ssize_t n = ::recv(socket_.fd(), buf, sizeof buf, 0);
-    if (n == 0) return StreamError{"the device at " + peer_ + " closed the connection"};
+    if (n == 0) return StreamError{"the device at " + peer_ + " closed the connection", StreamError::Kind::kLost};
     if (n < 0) {
       if (errno == EINTR) continue;
       if (errno == EAGAIN || errno == EWOULDBLOCK) return true;
-      return StreamError{"lost the connection to the device at " + peer_ + ": " + errno_text(errno)};
+      return StreamError{"lost the connection to the device at " + peer_ + ": " + errno_text(errno),
+                         StreamError::Kind::kLost};
     }
     for (ssize_t i = 0; i < n; ++i) {
       const std::uint8_t b = buf[i];
-      if (b == link::kStreamBusy) return StreamError{"the device at " + peer_ + " is busy with another host"};
+      if (b == link::kStreamBusy)
+        return StreamError{"the device at " + peer_ + " is busy with another host", StreamError::Kind::kBusy};
       if (b != link::kStreamReady && b != link::kStreamRejected) {
         char hex[8];
         std::snprintf(hex, sizeof hex, "0x%02X", b);
@@ -270,7 +274,8 @@ core::Result<bool, StreamError> StreamSender::write_all(std::span<const std::uin
     }
     if (n < 0 && errno == EINTR) continue;
     if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK)
-      return StreamError{"lost the connection to the device at " + peer_ + ": " + errno_text(errno)};
+      return StreamError{"lost the connection to the device at " + peer_ + ": " + errno_text(errno),
+                         StreamError::Kind::kLost};
     // The device has not read what it was sent so far: wait for room, within the timeout.
     pollfd pfd{socket_.fd(), POLLOUT, 0};
     const int rc = ::poll(&pfd, 1, ms_until(last_progress + io_timeout_));
@@ -283,6 +288,7 @@ core::Result<bool, StreamError> StreamSender::write_all(std::span<const std::uin
 
 core::Result<bool, StreamError> StreamSender::send_pending() {
   if (!pending_ || credits_ == 0) return false;
+  if (numbering_) numbering_->stamp(pending_bytes_);
   const std::span<const std::uint8_t> all(pending_bytes_);
   for (std::size_t at = 0; at < all.size(); at += max_transfer_bytes_) {
     auto wrote = write_all(all.subspan(at, std::min(max_transfer_bytes_, all.size() - at)));
@@ -347,7 +353,8 @@ void StreamSender::close(std::chrono::milliseconds linger) {
 // Device side
 
 core::Result<StreamPort, StreamError> StreamPort::listen(const StreamAddress& address,
-                                                         std::function<void(const StreamPortEvent&)> on_event) {
+                                                         std::function<void(const StreamPortEvent&)> on_event,
+                                                         std::chrono::milliseconds stall_timeout) {
   AddrInfo ai;
   if (auto err = resolve(address, true, ai)) return *err;
   std::string why = "no address";
@@ -359,7 +366,7 @@ core::Result<StreamPort, StreamError> StreamPort::listen(const StreamAddress& ad
     }
     const int one = 1;
     ::setsockopt(s.fd(), SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    if (::bind(s.fd(), p->ai_addr, p->ai_addrlen) != 0 || ::listen(s.fd(), 8) != 0 || set_nonblocking(s.fd()) != 0) {
+    if (::bind(s.fd(), p->ai_addr, p->ai_addrlen) != 0 || ::listen(s.fd(), kListenBacklog) != 0 || set_nonblocking(s.fd()) != 0) {
       why = errno_text(errno);
       continue;
     }
@@ -371,7 +378,7 @@ core::Result<StreamPort, StreamError> StreamPort::listen(const StreamAddress& ad
       bound.port = ntohs(sa->sa_family == AF_INET6 ? reinterpret_cast<const sockaddr_in6*>(sa)->sin6_port
                                                    : reinterpret_cast<const sockaddr_in*>(sa)->sin_port);
     }
-    return StreamPort(std::move(s), std::move(bound), std::move(on_event));
+    return StreamPort(std::move(s), std::move(bound), std::move(on_event), stall_timeout);
   }
   return StreamError{"cannot listen on " + address.to_string() + ": " + why};
 }
@@ -388,6 +395,8 @@ void StreamPort::drop_host(link::StreamEndpoint& device, std::string why) {
 }
 
 void StreamPort::read_from_host(link::StreamEndpoint& device) {
+  // The stall clock starts with the first byte after the last world the receiver completed.
+  if (bytes_since_world_ == 0) last_world_at_ = StreamClock::now();
   std::uint8_t buf[kReadChunk];
   std::size_t total = 0;
   while (total < kMaxReadPerService) {
@@ -396,6 +405,7 @@ void StreamPort::read_from_host(link::StreamEndpoint& device) {
       device.transfer(std::span<const std::uint8_t>(buf, static_cast<std::size_t>(n)));
       total += static_cast<std::size_t>(n);
       host_bytes_ += static_cast<std::uint64_t>(n);
+      bytes_since_world_ += static_cast<std::uint64_t>(n);
       stats_.bytes_received += static_cast<std::uint64_t>(n);
       continue;
     }
@@ -413,9 +423,22 @@ void StreamPort::read_from_host(link::StreamEndpoint& device) {
       last_rejected_ = !accepted;
     }
   }
+  // A host that sends bytes but no world (too slowly, or bytes that are no world at all) holds the device
+  // for nobody: it is dropped once it has taken stall_timeout without completing one.
+  const std::uint64_t worlds = device.worlds_accepted() + device.worlds_rejected();
+  const auto now = StreamClock::now();
+  if (worlds != worlds_seen_) {
+    worlds_seen_ = worlds;
+    bytes_since_world_ = 0;
+  } else if (bytes_since_world_ > 0 && now - last_world_at_ > stall_timeout_) {
+    drop_host(device, "sent " + std::to_string(bytes_since_world_) + " bytes in " +
+                          std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(now - last_world_at_).count()) +
+                          " ms without completing a world (the limit is " + std::to_string(stall_timeout_.count()) +
+                          " ms); dropped");
+  }
 }
 
-void StreamPort::accept_hosts() {
+void StreamPort::accept_hosts(const link::StreamEndpoint& device) {
   for (;;) {
     sockaddr_storage ss{};
     socklen_t len = sizeof ss;
@@ -437,6 +460,8 @@ void StreamPort::accept_hosts() {
     host_ = std::move(s);
     host_name_ = name;
     host_bytes_ = 0;
+    bytes_since_world_ = 0;
+    worlds_seen_ = device.worlds_accepted() + device.worlds_rejected();
     credit_out_ = false;
     last_rejected_ = false;
     ++stats_.hosts_served;
@@ -461,7 +486,7 @@ void StreamPort::grant_credit(link::StreamEndpoint& device) {
 
 void StreamPort::service(link::StreamEndpoint& device) {
   if (host_.is_open()) read_from_host(device);
-  accept_hosts();
+  accept_hosts(device);
   if (host_.is_open()) grant_credit(device);
 }
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <tripsitter/core/result.h>
+#include <tripsitter/link/sequence.h>
 #include <tripsitter/link/stream_protocol.h>
 
 namespace tripsitter::transport {
@@ -24,7 +25,13 @@ namespace tripsitter::transport {
 using StreamClock = std::chrono::steady_clock;
 
 struct StreamError {
+  enum class Kind {
+    kOther,  // could not connect, a byte not in the protocol, a timeout
+    kLost,   // the connection ended or broke: the other side went away
+    kBusy,   // the device serves another host
+  };
   std::string message;  // names the address and what went wrong
+  Kind kind = Kind::kOther;
 };
 
 // "HOST:PORT": an IPv4 address, a host name, or an IPv6 address in brackets ("[::1]:7000"); the port is
@@ -84,8 +91,11 @@ class StreamSender {
  public:
   // `peer` names the device in messages. `io_timeout` bounds how long one transfer may wait for the device
   // to read. REQUIRES max_transfer_bytes >= 1.
+  // With `numbering`, each world gets its sequence number (and session) as it starts to go out
+  // (link/sequence.h); without, the bytes go out as submitted.
   StreamSender(StreamSocket socket, std::string peer, std::size_t max_transfer_bytes,
-               std::chrono::milliseconds io_timeout = std::chrono::seconds(10));
+               std::chrono::milliseconds io_timeout = std::chrono::seconds(10),
+               std::optional<link::Numbering> numbering = std::nullopt);
 
   // A complete encoded world to send; a world not yet sent is replaced.
   void submit(std::vector<std::uint8_t> world_bytes);
@@ -108,6 +118,7 @@ class StreamSender {
   void close(std::chrono::milliseconds linger = std::chrono::seconds(1));
 
   const StreamSenderStats& stats() const { return stats_; }
+  const std::optional<link::Numbering>& numbering() const { return numbering_; }
 
  private:
   core::Result<bool, StreamError> read_answers();
@@ -118,6 +129,7 @@ class StreamSender {
   std::string peer_;
   std::size_t max_transfer_bytes_;
   std::chrono::milliseconds io_timeout_;
+  std::optional<link::Numbering> numbering_;
   std::vector<std::uint8_t> pending_bytes_;
   bool pending_ = false;
   std::uint64_t credits_ = 0;  // held, not yet used
@@ -151,9 +163,13 @@ struct StreamPortStats {
 
 class StreamPort {
  public:
-  // Listens on `address` (port 0: the system chooses; address() then holds the real port).
+  // Listens on `address` (port 0: the system chooses; address() then holds the real port). A host that has
+  // sent bytes and completed no world (accepted or rejected) for `stall_timeout` is dropped, so that a host
+  // sending one byte a second, or bytes that are no world at all, cannot hold the device.
   static core::Result<StreamPort, StreamError> listen(const StreamAddress& address,
-                                                      std::function<void(const StreamPortEvent&)> on_event = {});
+                                                      std::function<void(const StreamPortEvent&)> on_event = {},
+                                                      std::chrono::milliseconds stall_timeout = kDefaultStallTimeout);
+  static constexpr std::chrono::milliseconds kDefaultStallTimeout{5000};
 
   const StreamAddress& address() const { return address_; }
   bool connected() const { return host_.is_open(); }
@@ -169,10 +185,12 @@ class StreamPort {
   const StreamPortStats& stats() const { return stats_; }
 
  private:
-  StreamPort(StreamSocket listener, StreamAddress address, std::function<void(const StreamPortEvent&)> on_event)
-      : listener_(std::move(listener)), address_(std::move(address)), on_event_(std::move(on_event)) {}
+  StreamPort(StreamSocket listener, StreamAddress address, std::function<void(const StreamPortEvent&)> on_event,
+             std::chrono::milliseconds stall_timeout)
+      : listener_(std::move(listener)), address_(std::move(address)), on_event_(std::move(on_event)),
+        stall_timeout_(stall_timeout) {}
   void read_from_host(link::StreamEndpoint& device);
-  void accept_hosts();
+  void accept_hosts(const link::StreamEndpoint& device);
   void grant_credit(link::StreamEndpoint& device);
   void drop_host(link::StreamEndpoint& device, std::string why);
   void emit(StreamPortEvent::Kind kind, std::string peer, std::uint64_t bytes, std::string detail);
@@ -180,9 +198,14 @@ class StreamPort {
   StreamSocket listener_;
   StreamAddress address_;
   std::function<void(const StreamPortEvent&)> on_event_;
+  std::chrono::milliseconds stall_timeout_;
   StreamSocket host_;
   std::string host_name_;
   std::uint64_t host_bytes_ = 0;
+  // The stall rule: bytes since the receiver last completed a world, and when that was.
+  std::uint64_t bytes_since_world_ = 0;
+  std::uint64_t worlds_seen_ = 0;
+  StreamClock::time_point last_world_at_{};
   // The credit rule: one credit outstanding at most, and with it the receiver's totals when it was granted.
   bool credit_out_ = false;
   bool last_rejected_ = false;

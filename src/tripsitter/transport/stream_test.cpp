@@ -8,16 +8,16 @@
 
 #include <gtest/gtest.h>
 
-#include <tripsitter/link/wire_v2.h>
+#include <tripsitter/link/frame.h>
 
 namespace tripsitter::transport {
 namespace {
 
 using namespace std::chrono_literals;
-using link::encode_v2_frame;
-using link::V2Error;
-using link::V2Failure;
-using link::V2StreamDecoder;
+using link::encode_frame;
+using link::FrameError;
+using link::FrameFailure;
+using link::FrameStreamDecoder;
 using link::World;
 
 // ---------------------------------------------------------------------------------------------------------
@@ -130,7 +130,7 @@ TEST(StreamSockets, ListeningTwiceOnOnePortFails) {
 // A receiver like the device's: v2 frames, a back copy that waits for vertical blanking (ready low meanwhile),
 // damaged frames counted and dropped.
 struct FakeReceiver : link::StreamEndpoint {
-  V2StreamDecoder decoder{16,
+  FrameStreamDecoder decoder{link::WireVersion::kV2, 16,
                           {.on_frame =
                                [this](World&& w) {
                                  frames.push_back(std::move(w));
@@ -138,16 +138,16 @@ struct FakeReceiver : link::StreamEndpoint {
                                  ++accepted;
                                },
                            .on_error =
-                               [this](const V2Failure& f, std::size_t bytes) {
+                               [this](const FrameFailure& f, std::size_t bytes) {
                                  dropped += bytes;
-                                 if (f.error != V2Error::kBadMagic) {
+                                 if (f.error != FrameError::kBadMagic) {
                                    ++rejected;
                                    errors.push_back(f.error);
                                  }
                                }}};
   bool pending = false;
   std::vector<World> frames;
-  std::vector<V2Error> errors;
+  std::vector<FrameError> errors;
   std::uint64_t accepted = 0, rejected = 0, dropped = 0, eos = 0;
   std::vector<std::size_t> transfer_sizes;
 
@@ -170,7 +170,7 @@ std::vector<std::uint8_t> frame(std::uint32_t sequence, std::size_t spheres = 1)
   w.sequence = sequence;
   w.frac_bits = 4;
   for (std::size_t i = 0; i < spheres; ++i) w.spheres.push_back({0, 0, 6400, 1024, 0, {1, 2, 3}, 0, 6144});
-  return encode_v2_frame(w);
+  return encode_frame(link::WireVersion::kV2, w);
 }
 
 // A past instant: pump_until makes one pass and does not wait.
@@ -270,7 +270,7 @@ TEST(StreamProtocol, ARejectedWorldIsAnsweredAtOnceWithX) {
   EXPECT_EQ(host.last_answer(), WorldAnswer::kRejected);
   EXPECT_EQ(rig.device.rejected, 1u);
   ASSERT_EQ(rig.device.errors.size(), 1u);
-  EXPECT_EQ(rig.device.errors[0], V2Error::kBadCrc);
+  EXPECT_EQ(rig.device.errors[0], FrameError::kBadCrc);
 
   // The device is still ready, so the next world goes at once and is taken.
   host.submit(frame(2));
@@ -314,7 +314,7 @@ TEST(StreamProtocol, AHostGoneMidFrameIsCountedByTheReceiverAndTheNextHostIsServ
   ASSERT_FALSE(rig.port->connected());
   EXPECT_EQ(rig.device.eos, 1u);
   ASSERT_EQ(rig.device.errors.size(), 1u);
-  EXPECT_EQ(rig.device.errors[0], V2Error::kTruncated);
+  EXPECT_EQ(rig.device.errors[0], FrameError::kTruncated);
   EXPECT_EQ(rig.device.dropped, 30u);
   ASSERT_EQ(rig.events.size(), 2u);
   EXPECT_EQ(rig.events[1].kind, StreamPortEvent::Kind::kDisconnected);
