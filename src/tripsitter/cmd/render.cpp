@@ -205,7 +205,7 @@ int run_device_alone(const RenderOptions& o) {
   });
   const auto& rx = dev.receiver_stats();
   std::cerr << "device: " << rx.worlds_accepted << " worlds accepted, " << rx.worlds_missing
-            << " missing (sequence numbers skipped), " << rx.frames_rejected
+            << " missing (lost on the link), " << rx.worlds_replayed << " replayed, " << rx.frames_rejected
             << " frames rejected, " << rx.garbage_runs << " runs of garbage (" << rx.bytes_dropped
             << " bytes dropped)\n";
   if (!captured.stats.has_world)
