@@ -363,7 +363,9 @@ core::Result<World, FrameFailure> decode_frame(WireVersion wire, std::span<const
 //   - a header error or a bad CRC: the first byte of the frame is dropped and reported with the error,
 //     and a hunt begins at the next byte, so a frame hidden inside the damaged one is still found;
 //   - a bad sphere under a good CRC: the frame arrived as sent, so all of it is dropped with the report
-//     and the next frame is expected right after it.
+//     and the next frame is expected right after it;
+//   - v3: an intact header inside the frame's bytes (find_embedded_header): the frame up to it is dropped
+//     as truncated and the frame that header begins is expected there.
 // The callbacks run in the middle of this work and must not call back into the decoder.
 
 FrameStreamDecoder::FrameStreamDecoder(WireVersion wire, std::uint32_t max_spheres, Callbacks callbacks)

@@ -102,9 +102,10 @@ void restamp_frame(WireVersion wire, std::span<std::uint8_t> frame, std::uint32_
 core::Result<World, FrameFailure> decode_frame(WireVersion wire, std::span<const std::uint8_t> bytes,
                                                std::uint32_t max_spheres);
 
-// Reassembles frames from a byte stream cut into transfers of any size. Damage never stops it: on any
-// error it reports the error and the number of bytes it discarded, then hunts for the next magic.
-// Never allocates more than max_spheres spheres for one frame.
+// Reassembles frames of one framed wire from a byte stream cut into transfers of any size; the frames and
+// reports are the same however the stream is cut. Damage never stops it: on any error it reports the error
+// and the number of bytes it discarded, then hunts for the next magic (docs/link_format.md, "How the
+// receiver finds its way through damage"). Never allocates more than max_spheres spheres for one frame.
 class FrameStreamDecoder {
  public:
   struct Callbacks {
