@@ -47,10 +47,9 @@ int lost(const transport::StreamError& e) {
 
 using Clock = transport::StreamClock;
 
-// The host's end of the link over TCP, one StreamSender per connection. When the device goes away after it
-// has answered a world on this connection (it was killed, or restarted), the link reconnects with backoff,
-// under a new session (link/sequence.h), and sends the latest world again. A connection lost before any
-// answer is not retried: that device does not take this host's worlds (another wire, say).
+// The host's end of the link over TCP, one StreamSender per connection. When the device goes away (it was
+// killed, or restarted), the link reconnects with backoff, under a new session (link/sequence.h), and sends
+// the latest world again; it gives up once the device has answered no world for the timeout.
 class ReconnectingLink {
  public:
   ReconnectingLink(transport::StreamAddress address, link::WireVersion wire, std::size_t transfer_bytes,
@@ -101,6 +100,7 @@ class ReconnectingLink {
 
  private:
   void open(transport::StreamSocket socket) {
+    if (!sender_) last_answer_at_ = Clock::now();  // the first connection starts the clock
     sender_.emplace(std::move(socket), peer_, transfer_bytes_, timeout_, link::Numbering(wire_, link::random_session()));
   }
 
@@ -119,19 +119,24 @@ class ReconnectingLink {
   // Reconnects after a lost connection on which the device had answered a world, retrying with a backoff
   // that doubles from 100 ms to 2 s, for at most the timeout. False: the error stands.
   bool recover(transport::StreamError& e) {
-    const transport::StreamSenderStats& s = sender_->stats();
     if (e.kind != transport::StreamError::Kind::kLost) return false;
-    if (s.worlds_taken + s.worlds_rejected == 0) {
-      e.message += " before answering a world (does it run the same --wire?)";
+    const transport::StreamSenderStats& s = sender_->stats();
+    const auto lost_at = Clock::now();
+    if (s.worlds_taken + s.worlds_rejected > 0) last_answer_at_ = lost_at;
+    add_stats();
+    // A device that answers no world for the timeout, across reconnections, is given up: it may run another
+    // wire, and drop every connection of this host for sending no world it can read.
+    const auto give_up_at = last_answer_at_ + timeout_;
+    const auto hint = [this] { return totals_.worlds_taken + totals_.worlds_rejected == 0 ? " (does it run the same --wire?)" : ""; };
+    if (lost_at >= give_up_at) {
+      e.message += std::string("; no world answered for ") + std::to_string(timeout_.count()) + " ms" + hint();
       return false;
     }
-    add_stats();
     std::cerr << "host: " << e.message << "; reconnecting\n";
-    const auto lost_at = Clock::now();
     auto backoff = std::chrono::milliseconds(100);
     for (int attempt = 1;; ++attempt) {
-      if (Clock::now() + backoff > lost_at + timeout_) {
-        std::cerr << "host: gave up reconnecting to " << peer_ << " after " << attempt - 1 << " attempts\n";
+      if (Clock::now() + backoff > give_up_at) {
+        e.message += "; gave up reconnecting after " + std::to_string(attempt - 1) + " attempts" + hint();
         return false;
       }
       std::this_thread::sleep_for(backoff);
@@ -155,6 +160,7 @@ class ReconnectingLink {
   std::optional<transport::StreamSender> sender_;
   std::vector<std::uint8_t> latest_;  // the newest world, sent again after a reconnection
   transport::StreamSenderStats totals_;  // of the connections closed so far
+  Clock::time_point last_answer_at_;     // when a connection that had answered a world was lost, or connected
 };
 
 int run_host(const HostOptions& o) {
@@ -219,10 +225,10 @@ void add_host_command(CLI::App& app, Action& run) {
   cmd->footer(
       "Plays a key script on the scene's camera in ticks of 1/60 s, makes a world every tick and sends it to\n"
       "`tripsitter device` whenever the device is ready (a newer world replaces one not yet sent). Exits once\n"
-      "the device has taken the last world. If the device goes away after taking worlds (it was restarted),\n"
-      "the host reconnects, retrying for up to --timeout seconds, and goes on. Exit 2: bad input, or no device\n"
-      "at the address; exit 1: the connection was lost for good, the device was busy or did not answer, or it\n"
-      "rejected the last world.");
+      "the device has taken the last world. If the device goes away (it was restarted), the host reconnects\n"
+      "with backoff and goes on, until the device has answered no world for --timeout seconds. Exit 2: bad\n"
+      "input, or no device at the address; exit 1: the connection was lost for good, the device was busy or\n"
+      "did not answer, or it rejected the last world.");
   cmd->add_option("--connect", o->connect, "Address of the device, HOST:PORT")->required();
   cmd->add_option("--scene", o->scene, "Built-in scene name (" + join(scene::builtin_names()) + ") or JSON scene file")
       ->capture_default_str();

@@ -483,7 +483,8 @@ TEST_F(TwoProcesses, AHostReconnectsToARestartedDevice) {
   ASSERT_TRUE(code.has_value());
   const std::string err = host->err();
   EXPECT_EQ(*code, 0) << err;
-  EXPECT_NE(err.find("closed the connection; reconnecting"), std::string::npos) << err;
+  // A killed device's socket closes or resets, as the kernel decides: either way the host reconnects.
+  EXPECT_NE(err.find("; reconnecting\n"), std::string::npos) << err;
   EXPECT_NE(err.find("reconnected to " + address_), std::string::npos) << err;
   const Image444 want = expected_frame({{Key::kW, 30}, {Key::kJ, 12}});
   const std::optional<Image444> got = newest_frame();
