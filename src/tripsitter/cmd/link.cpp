@@ -77,39 +77,6 @@ const char* wire_description(link::WireVersion wire) {
   return "";
 }
 
-// Why the device would refuse a world's content (its number formats, the path preset's indices of
-// refraction), or nothing. A receiver that has seen nothing else takes the world's bytes as the first of a
-// new session, so only those checks can refuse it: they are the device's own, not a copy of them.
-std::optional<std::string> content_refusal(const device::DevicePreset& preset, link::WireVersion wire,
-                                           std::span<const std::uint8_t> world_bytes) {
-  device::Receiver receiver(preset, wire);
-  receiver.receive(world_bytes);
-  if (receiver.stats().worlds_accepted == 1) return std::nullopt;
-  return receiver.stats().last_error;
-}
-
-// What the device makes of a stream, world by world, and its counts (device::ReceiverStats).
-struct Decoded {
-  std::string source;  // the input's name, for messages
-  bool print_worlds = true;
-  std::vector<std::uint32_t> accepted;  // sequence numbers of the worlds shown (v1: places of the words, from 1)
-  std::uint64_t rejected = 0, replayed = 0, missing = 0, sessions = 0, garbage_runs = 0, bytes_dropped = 0;
-  nlohmann::json problems = nlohmann::json::array();
-
-  // One line on stderr and one entry in the JSON's problems. `fate` says what became of the bytes.
-  void problem(std::size_t offset, const std::string& error, const std::string& detail, std::size_t bytes,
-               const char* fate = "dropped") {
-    std::cerr << source << ": byte " << offset << ": " << error << ": " << detail << " (" << bytes
-              << (bytes == 1 ? " byte " : " bytes ") << fate << ")\n";
-    problems.push_back({{"offset", offset}, {"error", error}, {"detail", detail}, {"bytes", bytes}});
-  }
-  void reject(std::size_t offset, const std::string& error, const std::string& detail, std::size_t bytes) {
-    ++rejected;
-    bytes_dropped += bytes;
-    problem(offset, error, detail, bytes);
-  }
-};
-
 void print_sphere(std::size_t i, double x, double y, double z, double r, const std::string& extra) {
   std::cout << "  sphere " << i << ": centre (" << x << ", " << y << ", " << z << ") radius " << r << extra << "\n";
 }
@@ -132,120 +99,65 @@ void print_world(link::WireVersion wire, const link::World& w, const link::Seque
   }
 }
 
-// v1: every 8 bytes are a word, a world of one sphere; a partial word at the end is rejected.
-void decode_words(const device::DevicePreset& preset, std::span<const std::uint8_t> bytes, Decoded& d) {
-  std::size_t at = 0;
-  link::V1StreamDecoder decoder([&](const link::V1Sphere& s) {
-    const std::size_t place = at / link::kV1WordBytes + 1;
-    if (auto why = content_refusal(preset, link::WireVersion::kV1, bytes.subspan(at, link::kV1WordBytes))) {
-      d.reject(at, "rejected", *why, link::kV1WordBytes);
-    } else {
-      d.accepted.push_back(static_cast<std::uint32_t>(place));
-      if (d.print_worlds) {
-        std::cout << "word " << place << ":\n";
-        std::ostringstream extra;
-        extra << " (2^" << int(s.radius_log2) << "), colour 0x" << std::hex << std::setw(3) << std::setfill('0')
-              << s.colour;
-        print_sphere(0, link::kV1X.to_double(s.x_raw), link::kV1Y.to_double(s.y_raw), link::kV1Z.to_double(s.z_raw),
-                     std::ldexp(1.0, s.radius_log2), extra.str());
-      }
-    }
-    at += link::kV1WordBytes;
-  });
-  decoder.push(bytes);
-  if (decoder.pending_bytes() > 0) {
-    d.reject(at, "truncated", "an incomplete word at the end of the stream", decoder.pending_bytes());
-  }
+void print_word(const link::V1Sphere& s, std::size_t place) {
+  std::cout << "word " << place << ":\n";
+  std::ostringstream extra;
+  extra << " (2^" << int(s.radius_log2) << "), colour 0x" << std::hex << std::setw(3) << std::setfill('0') << s.colour;
+  print_sphere(0, link::kV1X.to_double(s.x_raw), link::kV1Y.to_double(s.y_raw), link::kV1Z.to_double(s.z_raw),
+               std::ldexp(1.0, s.radius_log2), extra.str());
 }
 
-// v2 and v3: the stream decoder's frames and reports, then the device's rules for each frame that arrived
-// intact (device::Receiver's admit and accept_frame): its sequence number first, then its content.
-void decode_frames(link::WireVersion wire, const device::DevicePreset& preset, std::span<const std::uint8_t> bytes,
-                   Decoded& d) {
-  link::SequenceRules rules(wire);
-  std::optional<std::uint32_t> current_session;  // of the last world the rules let through
-  std::size_t at = 0;  // where the next frame or report begins: each byte is in exactly one, in order
-  // The sequence rules for an intact frame of `size` bytes at `at`: nothing for a replay.
-  const auto admit = [&](std::uint32_t session, std::uint32_t sequence,
-                         std::size_t size) -> std::optional<link::SequenceCheck> {
-    const link::SequenceCheck c = rules.check(session, sequence);
-    if (c.verdict == link::SequenceVerdict::kReplay) {
-      ++d.replayed;
-      d.bytes_dropped += size;  // as the device counts them
-      d.problem(at, "replay",
-                "world " + std::to_string(sequence) + " of session " + std::to_string(session) +
-                    (session == current_session ? " is not newer than the last one of its session"
-                                                : " belongs to a session that has ended"),
-                size, "dropped, not shown");
-      return std::nullopt;
-    }
-    current_session = session;
-    d.missing += c.missing;
-    if (c.new_session) ++d.sessions;
-    return c;
-  };
-  link::FrameStreamDecoder decoder(
-      wire, preset.max_spheres,
-      {.on_frame =
-           [&](link::World&& w) {
-             const std::size_t size = link::frame_bytes(wire, w.spheres.size());
-             if (const auto c = admit(w.session, w.sequence, size)) {
-               if (auto why = content_refusal(preset, wire, bytes.subspan(at, size))) {
-                 d.reject(at, "rejected", *why, size);
-               } else {
-                 d.accepted.push_back(w.sequence);
-                 if (d.print_worlds) print_world(wire, w, *c, d.accepted.size());
-               }
-             }
-             at += size;
-           },
-       .on_error =
-           [&](const link::FrameFailure& f, std::size_t dropped) {
-             if (f.error == link::FrameError::kBadMagic) {
-               ++d.garbage_runs;
-               d.bytes_dropped += dropped;
-               d.problem(f.offset, link::to_string(f.error), f.detail, dropped);
-             } else if (!f.intact || admit(f.intact->session, f.intact->sequence, dropped)) {
-               d.reject(f.offset, link::to_string(f.error), f.detail, dropped);
-             }
-             at += dropped;
-           }});
-  decoder.push(bytes);
-  decoder.end_of_stream();
-}
-
+// What the device makes of a stream: a device::Receiver of the preset and wire, whose events say world by
+// world what it showed and why it refused the rest, and whose counts are the device's own.
 int run_decode(const LinkOptions& o) {
   const link::WireVersion wire = parse_wire(o.wire);
   const device::DevicePreset preset = load_preset(o.preset, 0);
   const std::vector<std::uint8_t> bytes = read_bytes(o.input);
-  Decoded d;
-  d.source = o.input == "-" ? "<stdin>" : o.input;
-  d.print_worlds = !o.json;
+  const std::string source = o.input == "-" ? "<stdin>" : o.input;
   if (!o.json) std::cout << "wire: " << wire_description(wire) << "\n";
-  if (wire == link::WireVersion::kV1) {
-    decode_words(preset, bytes, d);
-  } else {
-    decode_frames(wire, preset, bytes, d);
-  }
-  if (bytes.empty()) std::cerr << d.source << ": no " << o.wire << " data: the input is empty\n";
+
+  std::vector<std::uint32_t> accepted;  // sequence numbers of the worlds shown (v1: places of the words, from 1)
+  nlohmann::json problems = nlohmann::json::array();
+  std::size_t at = 0;  // where the piece of the next event begins
+  device::Receiver receiver(preset, wire);
+  receiver.set_listener([&](const device::ReceiverEvent& e) {
+    using Kind = device::ReceiverEvent::Kind;
+    if (e.kind == Kind::kAccepted) {
+      accepted.push_back(e.world ? e.world->sequence : static_cast<std::uint32_t>(at / link::kV1WordBytes + 1));
+      if (!o.json && e.world) print_world(wire, *e.world, e.check, accepted.size());
+      if (!o.json && e.word) print_word(*e.word, accepted.back());
+    } else {
+      const std::size_t offset = e.found_at.value_or(at);
+      std::cerr << source << ": byte " << offset << ": " << e.error << ": " << e.detail << " (" << e.bytes
+                << (e.bytes == 1 ? " byte " : " bytes ")
+                << (e.kind == Kind::kReplayed ? "dropped, not shown" : "dropped") << ")\n";
+      problems.push_back({{"offset", offset}, {"error", e.error}, {"detail", e.detail}, {"bytes", e.bytes}});
+    }
+    at += e.bytes;
+  });
+  receiver.receive(bytes);
+  receiver.end_of_stream();
+  const device::ReceiverStats& rx = receiver.stats();
+
+  if (bytes.empty()) std::cerr << source << ": no " << o.wire << " data: the input is empty\n";
   if (o.json) {
     const nlohmann::json doc = {{"wire", o.wire},
                                 {"bytes", bytes.size()},
-                                {"accepted", d.accepted},
-                                {"rejected", d.rejected},
-                                {"replayed", d.replayed},
-                                {"missing", d.missing},
-                                {"sessions", d.sessions},
-                                {"garbage_runs", d.garbage_runs},
-                                {"bytes_dropped", d.bytes_dropped},
-                                {"problems", d.problems}};
+                                {"accepted", accepted},
+                                {"rejected", rx.frames_rejected},
+                                {"replayed", rx.worlds_replayed},
+                                {"missing", rx.worlds_missing},
+                                {"sessions", rx.sessions},
+                                {"garbage_runs", rx.garbage_runs},
+                                {"bytes_dropped", rx.bytes_dropped},
+                                {"problems", problems}};
     std::cout << doc.dump(2) << "\n";
   } else {
-    std::cout << "shown " << d.accepted.size() << ", rejected " << d.rejected << ", replayed " << d.replayed
-              << ", missing " << d.missing << ", garbage runs " << d.garbage_runs << ", bytes dropped "
-              << d.bytes_dropped << "\n";
+    std::cout << "shown " << accepted.size() << ", rejected " << rx.frames_rejected << ", replayed "
+              << rx.worlds_replayed << ", missing " << rx.worlds_missing << ", garbage runs " << rx.garbage_runs
+              << ", bytes dropped " << rx.bytes_dropped << "\n";
   }
-  const bool all_shown = !bytes.empty() && d.rejected == 0 && d.replayed == 0 && d.garbage_runs == 0;
+  const bool all_shown = !bytes.empty() && rx.frames_rejected == 0 && rx.worlds_replayed == 0 && rx.garbage_runs == 0;
   return all_shown ? kExitOk : kExitBadInput;
 }
 

@@ -40,11 +40,8 @@ Receiver::Receiver(const DevicePreset& preset, link::WireVersion wire)
               {.on_frame = [this](link::World&& world) { accept_frame(std::move(world)); },
                .on_error =
                    [this](const link::FrameFailure& failure, std::size_t bytes) {
-                     if (failure.error == link::FrameError::kBadMagic) {
-                       skip_garbage(bytes);
-                     } else if (!failure.intact ||
-                                admit(failure.intact->session, failure.intact->sequence, bytes)) {
-                       reject(std::string(link::to_string(failure.error)) + ": " + failure.detail, bytes);
+                     if (!failure.intact || admit(failure.intact->session, failure.intact->sequence, bytes)) {
+                       report(link::to_string(failure.error), failure.detail, bytes, failure.offset);
                      }
                    }}),
       sequence_(wire == link::WireVersion::kV1 ? link::WireVersion::kV3 : wire) {}
@@ -59,22 +56,47 @@ void Receiver::receive(std::span<const std::uint8_t> bytes) {
 
 void Receiver::end_of_stream() {
   if (wire_ == link::WireVersion::kV1) {
-    if (v1_.pending_bytes() > 0) reject("truncated: the stream ended inside a v1 word", v1_.pending_bytes());
+    if (v1_.pending_bytes() > 0) report("truncated", "the stream ended inside a v1 word", v1_.pending_bytes(), {});
     v1_.reset();
   } else {
     frames_.end_of_stream();
   }
 }
 
+ReceiverEvent Receiver::event(ReceiverEvent::Kind kind, std::size_t bytes, std::string error, std::string detail) {
+  ReceiverEvent e;
+  e.kind = kind;
+  e.bytes = bytes;
+  e.error = std::move(error);
+  e.detail = std::move(detail);
+  return e;
+}
+
+void Receiver::emit(const ReceiverEvent& event) const {
+  if (listener_) listener_(event);
+}
+
 void Receiver::reject(const std::string& why, std::size_t bytes) {
   ++stats_.frames_rejected;
   stats_.bytes_dropped += bytes;
   stats_.last_error = why;
+  if (listener_) emit(event(ReceiverEvent::Kind::kRejected, bytes, "rejected", why));
 }
 
-void Receiver::skip_garbage(std::size_t bytes) {
-  ++stats_.garbage_runs;
+void Receiver::report(const std::string& error, const std::string& detail, std::size_t bytes,
+                      std::optional<std::size_t> found_at) {
   stats_.bytes_dropped += bytes;
+  const bool garbage = error == link::to_string(link::FrameError::kBadMagic);
+  if (garbage) {
+    ++stats_.garbage_runs;
+  } else {
+    ++stats_.frames_rejected;
+    stats_.last_error = error + ": " + detail;
+  }
+  if (!listener_) return;
+  ReceiverEvent e = event(garbage ? ReceiverEvent::Kind::kGarbage : ReceiverEvent::Kind::kRejected, bytes, error, detail);
+  e.found_at = found_at;
+  emit(e);
 }
 
 void Receiver::accept_v1(const link::V1Sphere& word) {
@@ -102,23 +124,35 @@ void Receiver::accept_v1(const link::V1Sphere& word) {
   if (pending_) ++stats_.worlds_replaced;
   pending_ = true;
   ++stats_.worlds_accepted;
+  if (!listener_) return;
+  ReceiverEvent e = event(ReceiverEvent::Kind::kAccepted, link::kV1WordBytes, "", "");
+  e.word = &word;
+  emit(e);
 }
 
-bool Receiver::admit(std::uint32_t session, std::uint32_t sequence, std::size_t bytes) {
+std::optional<link::SequenceCheck> Receiver::admit(std::uint32_t session, std::uint32_t sequence,
+                                                   std::size_t bytes) {
   const link::SequenceCheck c = sequence_.check(session, sequence);
   if (c.verdict == link::SequenceVerdict::kReplay) {
     ++stats_.worlds_replayed;
     stats_.bytes_dropped += bytes;
-    return false;
+    if (listener_) {
+      emit(event(ReceiverEvent::Kind::kReplayed, bytes, "replay",
+                 "world " + std::to_string(sequence) + " of session " + std::to_string(session) +
+                     (c.ended_session ? " belongs to a session that has ended"
+                                      : " is not newer than the last one of its session")));
+    }
+    return std::nullopt;
   }
   stats_.worlds_missing += c.missing;
   if (c.new_session) ++stats_.sessions;
-  return true;
+  return c;
 }
 
 void Receiver::accept_frame(link::World&& world) {
   const std::size_t bytes = link::frame_bytes(wire_, world.spheres.size());
-  if (!admit(world.session, world.sequence, bytes)) return;
+  const std::optional<link::SequenceCheck> check = admit(world.session, world.sequence, bytes);
+  if (!check) return;
   if (world.frac_bits != preset_.frac_bits()) {
     reject("format mismatch: frame has " + std::to_string(world.frac_bits) + " fractional bits, the device " +
                std::to_string(preset_.frac_bits()),
@@ -152,6 +186,11 @@ void Receiver::accept_frame(link::World&& world) {
   if (pending_) ++stats_.worlds_replaced;
   pending_ = true;
   ++stats_.worlds_accepted;
+  if (!listener_) return;
+  ReceiverEvent e = event(ReceiverEvent::Kind::kAccepted, bytes, "", "");
+  e.world = &world;
+  e.check = *check;
+  emit(e);
 }
 
 bool Receiver::swap_if_pending(SceneMemory& front) {

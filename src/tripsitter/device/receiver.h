@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -35,9 +36,31 @@ struct ReceiverStats {
   std::string last_error;              // why the last frame was rejected
 };
 
+// What the receiver did with one piece of the stream. Events come in stream order and every byte received is
+// in exactly one, so a listener that adds up `bytes` knows where each piece began.
+struct ReceiverEvent {
+  enum class Kind {
+    kAccepted,  // a world went to the back copy
+    kReplayed,  // v3: an intact world the sequence rules refused
+    kRejected,  // a damaged frame, or a world (or v1 word) refused for its content
+    kGarbage,   // bytes skipped looking for a frame
+  };
+  Kind kind = Kind::kAccepted;
+  std::size_t bytes = 0;
+  std::optional<std::size_t> found_at;  // stream offset at which the decoder found the problem, if it says
+  std::string error;                    // a short name: "bad CRC", "truncated", "rejected", "replay", ...
+  std::string detail;                   // a sentence for people
+  const link::World* world = nullptr;    // kAccepted, v2 and v3
+  const link::V1Sphere* word = nullptr;  // kAccepted, v1
+  link::SequenceCheck check;             // kAccepted, v2 and v3
+};
+
 class Receiver {
  public:
   Receiver(const DevicePreset& preset, link::WireVersion wire);
+
+  // Tools that explain a stream (`link decode`) listen; the device itself does not.
+  void set_listener(std::function<void(const ReceiverEvent&)> listener) { listener_ = std::move(listener); }
 
   // The ready line: high while no accepted world waits for the next vertical blanking.
   bool ready() const { return !pending_; }
@@ -55,9 +78,15 @@ class Receiver {
   void accept_frame(link::World&& world);
   // The sequence rules for a frame of `bytes` bytes that arrived intact; false if it must not be shown (a
   // replay, whose bytes are dropped).
-  bool admit(std::uint32_t session, std::uint32_t sequence, std::size_t bytes);
+  std::optional<link::SequenceCheck> admit(std::uint32_t session, std::uint32_t sequence, std::size_t bytes);
+  // A world (or v1 word) refused for its content.
   void reject(const std::string& why, std::size_t bytes);
-  void skip_garbage(std::size_t bytes);
+  // A problem the decoder reported: a damaged or cut frame, a bad sphere, or (kBadMagic) garbage.
+  void report(const std::string& error, const std::string& detail, std::size_t bytes,
+              std::optional<std::size_t> found_at);
+  // Events are built only when a listener is set: the device's receiver pays nothing for them.
+  static ReceiverEvent event(ReceiverEvent::Kind kind, std::size_t bytes, std::string error, std::string detail);
+  void emit(const ReceiverEvent& event) const;
 
   DevicePreset preset_;
   link::WireVersion wire_;
@@ -68,6 +97,7 @@ class Receiver {
   bool pending_ = false;
   std::uint32_t v1_words_ = 0;
   ReceiverStats stats_;
+  std::function<void(const ReceiverEvent&)> listener_;
 };
 
 }  // namespace tripsitter::device

@@ -57,6 +57,7 @@ SequenceCheck SequenceRules::check(std::uint32_t session, std::uint32_t sequence
   }
   if (retired(session)) {
     c.verdict = SequenceVerdict::kReplay;
+    c.ended_session = true;
     return c;
   }
   if (session_) {

@@ -49,6 +49,7 @@ struct SequenceCheck {
   SequenceVerdict verdict = SequenceVerdict::kShow;
   std::uint64_t missing = 0;  // numbers skipped before this world: worlds the link lost
   bool new_session = false;   // the world begins a host session this receiver had not seen
+  bool ended_session = false; // a replay because its session has ended (not because its number is old)
 };
 
 // The receiver's side. Every frame that arrived intact goes through check(), whether the device then takes
