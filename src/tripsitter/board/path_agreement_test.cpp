@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <tripsitter/core/parallel.h>
+#include <tripsitter/core/sanitizers.h>
 #include <tripsitter/core/screen.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/test_util.h>
@@ -25,11 +26,7 @@ namespace {
 
 using device::testing::PathBall;
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
+using core::kSanitized;
 
 constexpr int kWidth = core::kScreenWidth, kHeight = core::kScreenHeight;
 constexpr std::size_t kPixels = std::size_t{kWidth} * kHeight;

@@ -112,6 +112,7 @@
 
 #include <tripsitter/board/board.h>
 #include <tripsitter/core/crc32.h>
+#include <tripsitter/core/sanitizers.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/receiver.h>
 #include <tripsitter/device/test_util.h>
@@ -128,17 +129,7 @@ namespace {
 using Bytes = std::vector<std::uint8_t>;
 using link::WireVersion;
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
+using core::kSanitized;
 
 constexpr int kKinds = 14;
 constexpr int kPresets = 2;

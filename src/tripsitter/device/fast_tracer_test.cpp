@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <tripsitter/core/sanitizers.h>
 #include <tripsitter/link/frame.h>
 
 #include "test_util.h"
@@ -19,11 +20,7 @@ using testing::random_world;
 using testing::wide_32_preset;
 
 // Fewer worlds under the sanitizers, which run the whole suite many times slower.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr int kWorldsPerPreset = 60;
-#else
-constexpr int kWorldsPerPreset = 250;
-#endif
+constexpr int kWorldsPerPreset = core::kSanitized ? 60 : 250;
 constexpr int kRowsPerWorld = 8;
 
 // The presets the fast model is checked in: the two shipped ones, the board's with mirrors, schedules with

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <tripsitter/core/sanitizers.h>
 #include <tripsitter/device/controller.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/fast_tracer.h>
@@ -22,11 +23,7 @@ using testing::PathBall;
 using testing::path_frame_of;
 
 // Fewer worlds under the sanitizers, which run the whole suite many times slower.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
+using core::kSanitized;
 
 constexpr std::uint8_t kLambertian = link::kMaterialLambertian, kMetal = link::kMaterialMetal,
                        kDielectric = link::kMaterialDielectric;

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include <tripsitter/core/sanitizers.h>
+
 namespace tripsitter::render {
 namespace {
 
@@ -18,18 +20,6 @@ using core::Vec3d;
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr double kFloatEps = 0x1p-24;  // unit roundoff of float
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
 
 Vec3d to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
 
@@ -546,7 +536,7 @@ TEST(Bvh, ExtremeCoordinatesAndSkewedDistributions) {
 
 TEST(Bvh, MillionSpheres) {
   // A million under 10 s in Release; fewer under the address sanitizer.
-  const std::size_t n = kSanitized ? 200'000 : 1'000'000;
+  const std::size_t n = core::kAddressSanitizer ? 200'000 : 1'000'000;
   std::mt19937 rng(10);
   Scene scene;
   scene.centers.reserve(n);
