@@ -90,7 +90,7 @@ class ReconnectingLink {
 
   void close() {
     sender_->close();
-    add_stats();
+    totals_ += sender_->stats();
   }
 
   const transport::StreamSenderStats& totals() const { return totals_; }
@@ -104,26 +104,14 @@ class ReconnectingLink {
     sender_.emplace(std::move(socket), peer_, transfer_bytes_, timeout_, link::Numbering(wire_, link::random_session()));
   }
 
-  void add_stats() {
-    const transport::StreamSenderStats& s = sender_->stats();
-    totals_.worlds_submitted += s.worlds_submitted;
-    totals_.worlds_sent += s.worlds_sent;
-    totals_.worlds_replaced += s.worlds_replaced;
-    totals_.worlds_taken += s.worlds_taken;
-    totals_.worlds_rejected += s.worlds_rejected;
-    totals_.transfers += s.transfers;
-    totals_.bytes_sent += s.bytes_sent;
-    totals_.credits += s.credits;
-  }
-
-  // Reconnects after a lost connection on which the device had answered a world, retrying with a backoff
-  // that doubles from 100 ms to 2 s, for at most the timeout. False: the error stands.
+  // Reconnects after a lost connection, retrying with a backoff that doubles from 100 ms to 2 s, until the
+  // device has answered no world for the timeout. False: the error stands (with why, added to it).
   bool recover(transport::StreamError& e) {
     if (e.kind != transport::StreamError::Kind::kLost) return false;
     const transport::StreamSenderStats& s = sender_->stats();
     const auto lost_at = Clock::now();
     if (s.worlds_taken + s.worlds_rejected > 0) last_answer_at_ = lost_at;
-    add_stats();
+    totals_ += sender_->stats();
     // A device that answers no world for the timeout, across reconnections, is given up: it may run another
     // wire, and drop every connection of this host for sending no world it can read.
     const auto give_up_at = last_answer_at_ + timeout_;

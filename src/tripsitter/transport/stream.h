@@ -85,6 +85,18 @@ struct StreamSenderStats {
   std::uint64_t transfers = 0;
   std::uint64_t bytes_sent = 0;
   std::uint64_t credits = 0;          // credit bytes received
+
+  StreamSenderStats& operator+=(const StreamSenderStats& o) {
+    worlds_submitted += o.worlds_submitted;
+    worlds_sent += o.worlds_sent;
+    worlds_replaced += o.worlds_replaced;
+    worlds_taken += o.worlds_taken;
+    worlds_rejected += o.worlds_rejected;
+    transfers += o.transfers;
+    bytes_sent += o.bytes_sent;
+    credits += o.credits;
+    return *this;
+  }
 };
 
 class StreamSender {
