@@ -15,6 +15,7 @@ esac
 packages=(g++ cmake make pkg-config libpng-dev nlohmann-json3-dev libcli11-dev libsdl2-dev libsdl2-ttf-dev
           fonts-dejavu-core libgtest-dev libbenchmark-dev
           libjs-chart.js              # explore's report inlines Chart.js
+          libopenexr-dev              # render --out FILE.exr (with Imath)
           libembree-dev               # optional: bench compares primary rays with Embree
           libopenmpi-dev openmpi-bin  # optional: render --mode path under mpirun
 )
