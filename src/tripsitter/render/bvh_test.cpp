@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -431,26 +432,178 @@ TEST(Bvh, MatchesBruteForceOnRandomScenes) {
   });
 }
 
-// Packets of eight rays, as scattered as the single queries above or as close as a row of camera rays, get each
-// ray's own answer.
+// Packets of eight rays, every other one as scattered as single queries, the others as close as a row of camera
+// rays (one origin, nearby directions), held to brute force; returns {hits, queries}.
+std::pair<int, int> expect_packets_match_brute_force(std::mt19937& rng, const Scene& scene, const Bvh& bvh,
+                                                     float extent, int packets) {
+  std::vector<Query> queries;
+  for (int packet = 0; packet < packets; ++packet) {
+    const Query first = random_query(rng, scene, extent);
+    const bool coherent = packet % 2 == 1;
+    for (int k = 0; k < Bvh::kWidth; ++k) {
+      Query q = k == 0 || !coherent ? random_query(rng, scene, extent) : first;
+      if (coherent) q.ray.dir = first.ray.dir + random_unit(rng) * (0.01f * length(first.ray.dir));
+      queries.push_back(q);
+    }
+  }
+  return expect_groups_match_brute_force<Bvh::kWidth>(
+      scene, bvh, queries, [&](const Ray(&rays)[Bvh::kWidth], float t_min, float t_max, SphereHit(&hits)[Bvh::kWidth]) {
+        return bvh.intersect_packet(rays, t_min, t_max, hits);
+      });
+}
+
+// Packets get each ray's own answer.
 TEST(Bvh, PacketsMatchBruteForce) {
   std::mt19937 rng(16);
   on_random_scenes(rng, 40, [&](const Scene& scene, const Bvh& bvh, float extent) {
-    std::vector<Query> queries;
-    for (int packet = 0; packet < 200; ++packet) {
-      const Query first = random_query(rng, scene, extent);
-      const bool coherent = packet % 2 == 1;
-      for (int k = 0; k < Bvh::kWidth; ++k) {
-        Query q = k == 0 || !coherent ? random_query(rng, scene, extent) : first;
-        if (coherent) q.ray.dir = first.ray.dir + random_unit(rng) * (0.01f * length(first.ray.dir));
-        queries.push_back(q);
-      }
-    }
-    return expect_groups_match_brute_force<Bvh::kWidth>(
-        scene, bvh, queries, [&](const Ray(&rays)[Bvh::kWidth], float t_min, float t_max, SphereHit(&hits)[Bvh::kWidth]) {
-          return bvh.intersect_packet(rays, t_min, t_max, hits);
-        });
+    return expect_packets_match_brute_force(rng, scene, bvh, extent, 200);
   });
+}
+
+// Spheres whose boxes dwarf the rest of the scene, as grounds of radius 1e3 and 1e6 under a scene of size ~10, or
+// walls and domes around it: single rays and packets against brute force, each scene built and queried as is.
+// Returns {hits, queries}.
+std::pair<int, int> expect_scene_matches_brute_force(std::mt19937& rng, const Scene& scene, float extent) {
+  const Bvh bvh = Bvh::build(scene.centers, scene.radii);
+  EXPECT_EQ(bvh.sphere_count(), scene.centers.size());
+  std::vector<Query> queries;
+  for (int i = 0; i < 2000; ++i) queries.push_back(random_query(rng, scene, extent));
+  const int hits = expect_matches_brute_force(scene, bvh, queries);
+  const auto [packet_hits, packet_queries] = expect_packets_match_brute_force(rng, scene, bvh, extent, 100);
+  return {hits + packet_hits, static_cast<int>(queries.size()) + packet_queries};
+}
+
+// Inserts a sphere at a random index, so that huge spheres come before, among and after the others.
+void insert_at_random(std::mt19937& rng, Scene& scene, const Vec3f& center, float radius) {
+  const auto i = std::uniform_int_distribution<std::size_t>(0, scene.centers.size())(rng);
+  scene.centers.insert(scene.centers.begin() + static_cast<std::ptrdiff_t>(i), center);
+  scene.radii.insert(scene.radii.begin() + static_cast<std::ptrdiff_t>(i), radius);
+}
+
+// Small spheres in [-extent, extent]^3, none of them huge.
+Scene small_spheres(std::mt19937& rng, std::size_t n, float extent) {
+  Scene s;
+  for (std::size_t i = 0; i < n; ++i) {
+    s.centers.push_back(uniform_in_box(rng, -extent, extent));
+    s.radii.push_back(log_uniform(rng, 1e-3f * extent, 0.2f * extent));
+  }
+  return s;
+}
+
+TEST(Bvh, GroundSpheresMatchBruteForce) {
+  std::mt19937 rng(17);
+  int hits = 0, queries = 0;
+  for (const float ground : {1e3f, 1e6f}) {
+    for (int scene_index = 0; scene_index < 12; ++scene_index) {
+      // 0 to 2000 small spheres: the ground alone, with fewer spheres than a leaf holds, and with many.
+      const std::size_t n = scene_index < 4 ? static_cast<std::size_t>(scene_index) * 3
+                                            : std::uniform_int_distribution<std::size_t>(8, 2000)(rng);
+      Scene scene = small_spheres(rng, n, 10);
+      insert_at_random(rng, scene, {0, -ground, 0}, ground);
+      const auto [h, q] = expect_scene_matches_brute_force(rng, scene, 10);
+      hits += h;
+      queries += q;
+    }
+  }
+  EXPECT_GT(hits, queries / 4);
+}
+
+TEST(Bvh, SeveralHugeSpheresMatchBruteForce) {
+  std::mt19937 rng(18);
+  int hits = 0, queries = 0;
+  for (int scene_index = 0; scene_index < 24; ++scene_index) {
+    const float extent = log_uniform(rng, 1.0f, 100.0f);
+    Scene scene = small_spheres(rng, std::uniform_int_distribution<std::size_t>(1, 1000)(rng), extent);
+    // 2 to 20 huge spheres, more than a leaf holds in some scenes: grounds and walls whose surface passes near the
+    // scene, and domes that enclose it.
+    const int huge = std::uniform_int_distribution<int>(2, 20)(rng);
+    for (int i = 0; i < huge; ++i) {
+      const float radius = extent * log_uniform(rng, 10.0f, 1e5f);
+      const Vec3f center = (rng() & 3) == 0 ? uniform_in_box(rng, -extent, extent)
+                                            : random_unit(rng) * (radius + extent * uniform(rng, 0.5f, 2.0f));
+      insert_at_random(rng, scene, center, radius);
+    }
+    const auto [h, q] = expect_scene_matches_brute_force(rng, scene, extent);
+    hits += h;
+    queries += q;
+  }
+  EXPECT_GT(hits, queries / 4);
+}
+
+TEST(Bvh, AllSpheresHugeMatchBruteForce) {
+  std::mt19937 rng(19);
+  int hits = 0, queries = 0;
+  for (int scene_index = 0; scene_index < 24; ++scene_index) {
+    // 1 to 20 spheres of radius 1e3 to 1e6, equal or not, around a region of size 1e3: rays meet them from outside
+    // and from inside.
+    const int n = scene_index < 20 ? scene_index + 1 : std::uniform_int_distribution<int>(1, 20)(rng);
+    const bool equal = scene_index % 3 == 0;
+    const float common = log_uniform(rng, 1e3f, 1e6f);
+    Scene scene;
+    for (int i = 0; i < n; ++i) {
+      const float radius = equal ? common : log_uniform(rng, 1e3f, 1e6f);
+      insert_at_random(rng, scene, random_unit(rng) * (radius + uniform(rng, -500.0f, 500.0f)), radius);
+    }
+    const auto [h, q] = expect_scene_matches_brute_force(rng, scene, 1e3f);
+    hits += h;
+    queries += q;
+  }
+  EXPECT_GT(hits, queries / 4);
+}
+
+TEST(Bvh, OneHugeSphereAndNoSphere) {
+  std::mt19937 rng(20);
+  for (const float radius : {1e3f, 1e6f}) {
+    Scene scene;
+    scene.centers.push_back({0, -radius, 0});
+    scene.radii.push_back(radius);
+    const auto [hits, queries] = expect_scene_matches_brute_force(rng, scene, 10);
+    EXPECT_GT(hits, queries / 4);
+  }
+  const Bvh bvh = Bvh::build({}, {});
+  Ray rays[Bvh::kWidth];
+  for (Ray& ray : rays) ray = {uniform_in_box(rng, -1, 1), random_unit(rng)};
+  SphereHit hits[Bvh::kWidth];
+  EXPECT_EQ(bvh.intersect_packet(rays, 0, kInf, hits), 0u);
+  std::size_t leaves = 0;
+  bvh.traverse([](const float*, const float*) { return 0.0f; }, [] { return kInf; },
+               [&](const Bvh::Leaf&, std::uint32_t) { ++leaves; });
+  EXPECT_EQ(leaves, 0u);
+}
+
+// A huge sphere and a small one that a ray meets at exactly the same t (both kernels give 5: the roots are exact
+// in float), with either one first in the arrays and many small spheres about so that the tree has depth: the
+// lower index wins, in single rays and in packets, whichever sphere the BVH tests first.
+TEST(Bvh, TieBetweenHugeAndSmallSphereGoesToTheLowerIndex) {
+  std::mt19937 rng(21);
+  for (const bool huge_first : {true, false}) {
+    Scene scene = small_spheres(rng, 500, 50);
+    for (Vec3f& c : scene.centers) c.z = std::abs(c.z) + 20;  // out of the ray's way
+    const Vec3f huge_center{0, 0, 1005}, small_center{0, 0, 6};
+    const std::size_t huge_index = huge_first ? 0 : 1, small_index = 1 - huge_index;
+    scene.centers.insert(scene.centers.begin(), {Vec3f{}, Vec3f{}});
+    scene.radii.insert(scene.radii.begin(), {0.0f, 0.0f});
+    scene.centers[huge_index] = huge_center;
+    scene.radii[huge_index] = 1000;
+    scene.centers[small_index] = small_center;
+    scene.radii[small_index] = 1;
+    const Ray ray{{0, 0, 0}, {0, 0, 1}};
+    float t_huge = 0, t_small = 0;
+    ASSERT_TRUE(intersect_sphere(ray, huge_center, 1000, 0, kInf, t_huge));
+    ASSERT_TRUE(intersect_sphere(ray, small_center, 1, 0, kInf, t_small));
+    ASSERT_EQ(t_huge, 5.0f);
+    ASSERT_EQ(t_small, 5.0f);
+    const Bvh bvh = Bvh::build(scene.centers, scene.radii);
+    SphereHit hit;
+    ASSERT_TRUE(bvh.intersect(ray, 0, kInf, hit));
+    EXPECT_EQ(hit.sphere, 0u);
+    EXPECT_EQ(hit.t, 5.0f);
+    Ray rays[Bvh::kWidth];
+    for (Ray& r : rays) r = ray;
+    SphereHit hits[Bvh::kWidth];
+    ASSERT_EQ(bvh.intersect_packet(rays, 0, kInf, hits), (1u << Bvh::kWidth) - 1);
+    for (const SphereHit& h : hits) EXPECT_EQ(h.sphere, 0u);
+  }
 }
 
 TEST(Bvh, EmptyNeverHits) {
