@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include <tripsitter/core/image.h>
 #include <tripsitter/core/vec.h>
 
 namespace tripsitter::render {
@@ -37,5 +38,13 @@ struct Aovs {
 
   static std::size_t pixels(int w, int h) { return static_cast<std::size_t>(w) * static_cast<std::size_t>(h); }
 };
+
+// The buffers as 8-bit pictures (`render --aov DIR`):
+//   albedo  sRGB-encoded, as the path tracer's colours are;
+//   normal  each component n mapped to 255 (n + 1) / 2 (render/primary.h's normal colours; the sky is grey);
+//   depth   grey by inverse depth: white at the nearest hit, black at the farthest and on the sky.
+core::ImageRgb8 albedo_image(const Aovs& aovs);
+core::ImageRgb8 normal_image(const Aovs& aovs);
+core::ImageRgb8 depth_image(const Aovs& aovs);
 
 }  // namespace tripsitter::render

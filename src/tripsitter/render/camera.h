@@ -15,7 +15,13 @@ class ThinLensCamera {
 
   // A ray through a uniformly jittered point of pixel (col, row), row 0 at the top, starting on the lens.
   // Inline: the path tracer draws one per sample.
-  Ray ray(int col, int row, Rng& rng) const;
+  Ray ray(int col, int row, Rng& rng) const { return ray(col, row, rng, rng); }
+  // The same with the jitter from `jitter` (its symmetric_pair) and the lens point from `lens` (its in_unit_disk,
+  // taken only with defocus, after the jitter): an Rng, or a SquareSample each (sampler.h).
+  template <class Jitter, class Lens>
+  Ray ray(int col, int row, Jitter&& jitter, Lens&& lens) const;
+  // Whether rays start on a disk (defocus_angle > 0), so that ray() takes a lens point.
+  bool defocus() const { return defocus_; }
   // The ray through the pixel's centre from the lens centre (no jitter, no defocus).
   Ray centre_ray(int col, int row) const;
 
@@ -33,14 +39,15 @@ class ThinLensCamera {
   bool defocus_ = false;
 };
 
-inline Ray ThinLensCamera::ray(int col, int row, Rng& rng) const {
+template <class Jitter, class Lens>
+inline Ray ThinLensCamera::ray(int col, int row, Jitter&& jitter, Lens&& lens) const {
   // Both jitters from one draw, uniform in [-0.5, 0.5).
-  const Rng::Pair jitter = rng.symmetric_pair(0.5f);
-  const Vec3f target = pixel00_ + pixel_du_ * (static_cast<float>(col) + jitter.a) +
-                       pixel_dv_ * (static_cast<float>(row) + jitter.b);
+  const Rng::Pair offset = jitter.symmetric_pair(0.5f);
+  const Vec3f target = pixel00_ + pixel_du_ * (static_cast<float>(col) + offset.a) +
+                       pixel_dv_ * (static_cast<float>(row) + offset.b);
   Vec3f from = origin_;
   if (defocus_) {
-    const Vec3f d = rng.in_unit_disk();
+    const Vec3f d = lens.in_unit_disk();
     from = origin_ + lens_u_ * d.x + lens_v_ * d.y;
   }
   return {from, target - from};

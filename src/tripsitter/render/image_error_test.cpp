@@ -1,8 +1,13 @@
 #include <tripsitter/render/image_error.h>
 
+#include <cmath>
+
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include <tripsitter/render/aov.h>
+#include <tripsitter/render/path_tracer.h>
 
 namespace tripsitter::render {
 namespace {
@@ -46,4 +51,26 @@ TEST(ImageError, PartialBlocksCount) {
 }
 
 }  // namespace
+}  // namespace tripsitter::render
+
+namespace tripsitter::render {
+
+TEST(AovImages, DepthRunsByInverseDepthFromWhiteAtTheNearestToBlackAtTheFarthest) {
+  Aovs a(4, 1);
+  a.depth = {2.0f, 4.0f, 6.0f, INFINITY};
+  a.normal = {{0, 0, -1}, {1, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  a.albedo = {{1, 1, 1}, {0, 0, 0}, {0.5f, 0.5f, 0.5f}, {1, 1, 1}};
+  const core::ImageRgb8 depth = depth_image(a), normal = normal_image(a), albedo = albedo_image(a);
+  EXPECT_EQ(depth.pixels[0], 255);
+  EXPECT_EQ(depth.pixels[3], 64);  // 1/4 is a quarter of the way from 1/6 to 1/2
+  EXPECT_EQ(depth.pixels[6], 0);
+  EXPECT_EQ(depth.pixels[9], 0);
+  EXPECT_EQ(normal.pixels[2], 0);     // z = -1
+  EXPECT_EQ(normal.pixels[3], 255);   // x = 1
+  EXPECT_EQ(normal.pixels[6], 127);   // 0: grey
+  EXPECT_EQ(albedo.pixels[0], 255);
+  EXPECT_EQ(albedo.pixels[3], 0);
+  EXPECT_EQ(albedo.pixels[6], srgb_encode(0.5f));
+}
+
 }  // namespace tripsitter::render

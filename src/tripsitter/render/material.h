@@ -49,7 +49,10 @@ inline float schlick(float cosine, float eta_ratio) {
   return r0 + (1 - r0) * m * m * m * m * m;
 }
 
-inline Scatter scatter(const PathMaterial& m, const Vec3f& dir_in, const SurfacePoint& s, Rng& rng) {
+// The surface's answer to a ray arriving along dir_in. `rng` is where its random numbers come from: an Rng, or one
+// SquareSample (sampler.h) of which it takes one unit vector (lambertian, fuzzed metal) or one uniform (dielectric).
+template <class Source>
+inline Scatter scatter(const PathMaterial& m, const Vec3f& dir_in, const SurfacePoint& s, Source&& rng) {
   switch (m.type) {
     case scene::MaterialType::kLambertian: {
       // A cosine-weighted bounce: the normal plus a uniform unit vector.

@@ -121,6 +121,28 @@ class Tile {
     }
   }
 
+  // Writes the tile's pixels that lie in the image as feature buffers (aov.h): one sample per pixel, its centre.
+  void features(const PathScene& scene, Aovs& aovs) const {
+    for (int r = 0; r < kTile && row0_ + r < aovs.height; ++r) {
+      for (int c = 0; c < kTile && col0_ + c < aovs.width; ++c) {
+        const std::size_t i = static_cast<std::size_t>(row0_ + r) * static_cast<std::size_t>(aovs.width) +
+                              static_cast<std::size_t>(col0_ + c);
+        if (t_[r][c] == kInf) {
+          aovs.albedo[i] = {1, 1, 1};
+          aovs.normal[i] = {0, 0, 0};
+          aovs.depth[i] = kInf;
+          continue;
+        }
+        const std::uint32_t sphere = std::bit_cast<std::uint32_t>(id_[r][c]);
+        const Vec3f dir{dx_[r][c], dy_[r][c], dz_[r][c]};
+        const Vec3f outward = (eye_ + dir * t_[r][c] - scene.center(sphere)) * (1.0f / scene.radius(sphere));
+        aovs.albedo[i] = scene.material(sphere).albedo;
+        aovs.normal[i] = core::dot(outward, dir) > 0 ? -outward : outward;
+        aovs.depth[i] = t_[r][c] * len_[r][c];
+      }
+    }
+  }
+
  private:
   // Intersects one sphere with the rows of rays it can touch; true when some ray's closest hit changed.
   bool sphere(const Vec3f& center, float radius, std::uint32_t index) {
@@ -164,10 +186,10 @@ class Tile {
   float limit_ = kInf;
 };
 
-}  // namespace
-
-core::ImageRgb8 render_primary(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings) {
-  core::ImageRgb8 image(settings.width, settings.height);
+// Walks the BVH once per tile of the image, on the settings' threads, and hands each finished tile to `done`.
+template <class Done>
+void trace_tiles(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings,
+                 const Done& done) {
   const int tiles_x = (settings.width + kTile - 1) / kTile;
   core::parallel_for(0, (settings.height + kTile - 1) / kTile, settings.threads, [&](int tile_row) {
     for (int tx = 0; tx < tiles_x; ++tx) {
@@ -175,10 +197,23 @@ core::ImageRgb8 render_primary(const PathScene& scene, const ThinLensCamera& cam
       scene.bvh().traverse([&](const float lo[3], const float hi[3]) { return tile.reach(lo, hi); },
                            [&] { return tile.limit(); },
                            [&](const Bvh::Leaf& leaf, std::uint32_t n) { tile.leaf(leaf, n); });
-      tile.shade(scene, camera, image);
+      done(tile);
     }
   });
+}
+
+}  // namespace
+
+core::ImageRgb8 render_primary(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings) {
+  core::ImageRgb8 image(settings.width, settings.height);
+  trace_tiles(scene, camera, settings, [&](const Tile& tile) { tile.shade(scene, camera, image); });
   return image;
+}
+
+void render_primary_aovs(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings,
+                         Aovs& aovs) {
+  if (aovs.width != settings.width || aovs.height != settings.height) aovs = Aovs(settings.width, settings.height);
+  trace_tiles(scene, camera, settings, [&](const Tile& tile) { tile.features(scene, aovs); });
 }
 
 }  // namespace tripsitter::render

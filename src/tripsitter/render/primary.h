@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include <tripsitter/core/image.h>
+#include <tripsitter/render/aov.h>
 #include <tripsitter/render/camera.h>
 #include <tripsitter/render/path_tracer.h>
 
@@ -33,5 +34,11 @@ inline void shade_primary(const PathScene& scene, const Ray& ray, const SphereHi
 
 // Renders width x height pixels (REQUIRES the camera made for that size).
 core::ImageRgb8 render_primary(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings);
+
+// The feature buffers (aov.h) of the same rays, one per pixel through its centre from the lens centre: a sharp
+// G-buffer, the same from frame to frame for a still camera, where the path tracer's own buffers average jittered
+// samples. The window's path mode reprojects and denoises with it. `aovs` is resized to the settings' size.
+void render_primary_aovs(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings,
+                         Aovs& aovs);
 
 }  // namespace tripsitter::render

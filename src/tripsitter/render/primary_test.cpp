@@ -65,3 +65,43 @@ TEST(Primary, MissesAreBlackAndHitsAreNot) {
 }
 
 }  // namespace tripsitter::render
+
+namespace tripsitter::render {
+
+TEST(Primary, FeatureBuffersAreTheCentreRaysFirstHits) {
+  for (const char* name : {"cluster", "field"}) {
+    const scene::Scene sc = *scene::builtin(name);
+    const PathScene scene(sc.spheres);
+    const int w = 37, h = 23;
+    const ThinLensCamera camera(sc.camera, w, h);
+    Aovs aovs;
+    render_primary_aovs(scene, camera, {.width = w, .height = h, .threads = 2}, aovs);
+    ASSERT_EQ(aovs.width, w);
+    ASSERT_EQ(aovs.depth.size(), static_cast<std::size_t>(w * h));
+    int hits = 0, misses = 0;
+    for (int row = 0; row < h; ++row) {
+      for (int col = 0; col < w; ++col) {
+        const std::size_t i = static_cast<std::size_t>(row * w + col);
+        const Ray ray = camera.centre_ray(col, row);
+        SphereHit hit;
+        if (!intersect_brute_force(scene.centers(), scene.radii(), ray, 0.0f, INFINITY, hit)) {
+          ++misses;
+          EXPECT_TRUE(std::isinf(aovs.depth[i]));
+          EXPECT_EQ(aovs.normal[i], Vec3f(0, 0, 0));
+          EXPECT_EQ(aovs.albedo[i], Vec3f(1, 1, 1));
+          continue;
+        }
+        ++hits;
+        const float distance = hit.t * core::length(ray.dir);
+        EXPECT_NEAR(aovs.depth[i], distance, 1e-5f * distance) << name << " " << col << "," << row;
+        EXPECT_EQ(aovs.albedo[i], scene.material(hit.sphere).albedo) << name << " " << col << "," << row;
+        EXPECT_NEAR(core::length(aovs.normal[i]), 1.0f, 1e-4f);  // the ground sphere: radius 1000 in float
+        EXPECT_LT(core::dot(aovs.normal[i], ray.dir), 0.0f);  // facing the camera
+      }
+    }
+    EXPECT_GT(hits, 0) << name;
+    EXPECT_GT(misses, 0) << name;
+  }
+}
+
+}  // namespace tripsitter::render

@@ -27,7 +27,9 @@ bool project(const ThinLensCamera::Pinhole& view, const Vec3f& d, float& x, floa
 
 }  // namespace
 
-void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, const ThinLensCamera::Pinhole& view) {
+void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, const ThinLensCamera::Pinhole& view,
+                              int first_row, int row_step) {
+  const auto traced = [&](int row) { return row % row_step == first_row; };
   const int w = aovs.width, h = aovs.height;
   const std::size_t n = Aovs::pixels(w, h);
   const bool fresh = width_ != w || height_ != h;
@@ -46,6 +48,7 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
   if (fresh || still) {
     // Plain accumulation: every pixel adds its sample to its own sums (a fresh pixel's sums are zero).
     core::parallel_for(0, h, settings_.threads, [&](int row) {
+      if (!traced(row)) return;
       const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(w);
       for (std::size_t i = first; i < first + static_cast<std::size_t>(w); ++i) {
         const float l = luminance(pass[i]);
@@ -97,18 +100,21 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
             weight += tap;
           }
         }
-        const float l = luminance(pass[i]);
+        // The new sample, or nothing on a row this pass did not trace.
+        const bool sampled = traced(row);
+        const Vec3f sample = sampled ? pass[i] : Vec3f{};
+        const float l = luminance(sample);
         if (weight > 1e-3f) {
           // Each tap's mean, weighted; the history counts for at most max_history_moving samples.
           const float kept = std::min(samples / weight, settings_.max_history_moving);
-          next_sum_[i] = mean * (kept / weight) + pass[i];
+          next_sum_[i] = mean * (kept / weight) + sample;
           next_square_sum_[i] = square_mean * (kept / weight) + l * l;
-          next_count_[i] = kept + 1;
+          next_count_[i] = kept + (sampled ? 1.0f : 0.0f);
           ++row_carried;
         } else {
-          next_sum_[i] = pass[i];
+          next_sum_[i] = sample;
           next_square_sum_[i] = l * l;
-          next_count_[i] = 1;
+          next_count_[i] = sampled ? 1.0f : 0.0f;
         }
       }
       carried[static_cast<std::size_t>(row)] = row_carried;

@@ -41,8 +41,11 @@ class TemporalAccumulator {
   //   (bilinear over the previous pixels that show the same surface: depth and normal agree), capped at
   //   max_history_moving samples, then adds the sample. A pixel whose surface was not visible before (it was
   //   disoccluded, left the screen or lay behind the camera) starts at this sample.
-  // REQUIRES pass and aovs sized aovs.width x aovs.height.
-  void add(std::span<const Vec3f> pass, const Aovs& aovs, const ThinLensCamera::Pinhole& view);
+  // Only rows first_row, first_row + row_step, ... have a new sample (a frame that traces a fraction of the
+  // image); the other pixels take their history alone, and one without history has none (count 0).
+  // REQUIRES pass and aovs sized aovs.width x aovs.height, 0 <= first_row < row_step.
+  void add(std::span<const Vec3f> pass, const Aovs& aovs, const ThinLensCamera::Pinhole& view, int first_row = 0,
+           int row_step = 1);
 
   int width() const { return width_; }
   int height() const { return height_; }

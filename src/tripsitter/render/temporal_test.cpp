@@ -167,6 +167,28 @@ TEST(Temporal, TheHistoryIsCappedAfterAMove) {
   EXPECT_EQ(acc.count()[kW - 1], 1.0f);
 }
 
+TEST(Temporal, APassOnEveryOtherRowAddsToThoseRowsAlone) {
+  const ThinLensCamera before(looking_along_z(0), kW, kH);
+  const ThinLensCamera after(looking_along_z(before.pinhole().du.x), kW, kH);
+  TemporalAccumulator acc;
+  const std::vector<Vec3f> pass = random_pass(1);
+  acc.add(pass, wall(before.pinhole()), before.pinhole(), 1, 2);  // rows 1, 3, 5, ...
+  for (int row = 0; row < kH; ++row) {
+    const std::size_t i = static_cast<std::size_t>(row * kW + 3);
+    EXPECT_EQ(acc.count()[i], row % 2 == 1 ? 1.0f : 0.0f) << row;
+    EXPECT_EQ(acc.sum()[i], row % 2 == 1 ? pass[i] : Vec3f{}) << row;
+  }
+  // After a move, rows 0, 2, ... get their first samples; rows 1, 3, ... keep their history and add nothing.
+  acc.add(random_pass(2), wall(after.pinhole()), after.pinhole(), 0, 2);
+  for (int row = 0; row < kH; ++row) {
+    const std::size_t i = static_cast<std::size_t>(row * kW + 3);
+    EXPECT_NEAR(acc.count()[i], 1.0f, 1e-3f) << row;
+    if (row % 2 == 1) {
+      EXPECT_NEAR(acc.sum()[i].x, pass[i + 1].x, 1e-3f) << row;
+    }
+  }
+}
+
 TEST(Temporal, MeanVarianceIsTheVarianceOfTheMeanLuminance) {
   const ThinLensCamera camera(looking_along_z(0), kW, kH);
   const Aovs aovs = wall(camera.pinhole());

@@ -1,0 +1,90 @@
+// A denoiser for path-traced images: an edge-avoiding à-trous wavelet filter (Dammertz et al. 2010) guided by
+// the feature buffers (aov.h) and by each pixel's variance, which it filters along, as SVGF does (Schied et al.
+// 2017). It smooths what the samples' noise allows and stops at changes of normal, depth and luminance; colour
+// is filtered divided by the albedo and multiplied back, so that neighbouring surfaces' colours do not bleed.
+// Deterministic: every pixel sums its taps in a fixed order, so any thread count gives the same bytes (and the
+// AVX2 and SSE2 builds the same bytes too). docs/denoiser.md describes the filter, its parameters, its cost and
+// what it blurs.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <tripsitter/render/aov.h>
+
+namespace tripsitter::render {
+
+struct DenoiseInput {
+  int width = 0;
+  int height = 0;
+  // Linear radiance per pixel, row-major: the mean of the pixel's samples.
+  std::span<const Vec3f> color;
+  // Per pixel: the variance of that mean's luminance (Rec. 709: 0.2126 r + 0.7152 g + 0.0722 b), i.e. the
+  // samples' variance divided by their number. Empty: estimated from the neighbours (Denoiser::estimate_variance
+  // with DenoiseSettings::variance_radius). 0 for exact pixels: a pixel whose 3x3 neighbourhood is all exact
+  // keeps its value (up to rounding).
+  std::span<const float> variance;
+  // Albedo, normal and depth of the same pixels (width x height). Null: no feature buffers, so only luminance
+  // stops the filter (every pixel counts as one surface of albedo 1).
+  const Aovs* aovs = nullptr;
+};
+
+struct DenoiseSettings {
+  // À-trous passes; pass i (from 0) takes its taps 2^i pixels apart, so 3 passes reach 7 pixels each way and 5
+  // reach 31. 0 returns the input. At most kMaxIterations. A pass costs about 2.8 ms of one core at 640x480,
+  // the set-up about 1 ms (docs/denoiser.md).
+  int iterations = 3;
+  // How many standard deviations of a pixel's (filtered) luminance noise a neighbour's luminance may differ by
+  // before its weight drops to exp(-1). Larger: smoother, and more detail lost.
+  float sigma_luminance = 4.0f;
+  // Normal weight exp(-sigma_normal (1 - n_p . n_q)) (to first order SVGF's (n_p . n_q)^sigma_normal): 32
+  // gives a neighbour whose normal is 10 degrees off 0.6 of the weight, 30 degrees off 0.014, 45 degrees off 1e-4.
+  float sigma_normal = 32.0f;
+  // Depth weight exp(-|z_p - z_q| / (sigma_depth s g_p + 0.001 z_p)), s the pass's tap spacing and g_p the depth's
+  // change per pixel at p along the tap's direction (x, y, or the sum of both for a diagonal tap): how many times
+  // the change a plane through p would show is tolerated. The sky (infinite depth) and the surfaces never mix.
+  float sigma_depth = 2.0f;
+  // Half-width of the window (2r + 1 pixels square) over which a missing variance is estimated.
+  int variance_radius = 3;
+  int threads = 0;  // 0: all hardware threads
+};
+
+// Holds the scratch planes, so that a window calling it every frame allocates only when the size (or the
+// number of iterations) grows.
+class Denoiser {
+ public:
+  static constexpr int kMaxIterations = 8;
+
+  // Writes the filtered image to `out` (width x height), which may be input.color itself.
+  // Throws std::invalid_argument unless width, height >= 1; color, out, and variance unless empty, are sized
+  // width x height; aovs, unless null, is of that size too; 0 <= iterations <= kMaxIterations; the sigmas are
+  // positive and variance_radius >= 1. REQUIRES colour and variance finite, variance >= 0.
+  void denoise(const DenoiseInput& input, const DenoiseSettings& settings, std::span<Vec3f> out);
+
+  // The variance of each pixel's luminance estimated from its neighbours: the sample variance of the luminance
+  // of colour / albedo over the (2 radius + 1)^2 window, counting only pixels of the same kind (sky or surface),
+  // times the pixel's albedo luminance squared. What DenoiseInput::variance expects when every pixel is the mean
+  // of equally many samples, overestimated where the picture itself varies within the window. input.variance is
+  // ignored. Throws std::invalid_argument as denoise does, and unless radius >= 1 and `out` is width x height.
+  void estimate_variance(const DenoiseInput& input, int radius, int threads, std::span<float> out);
+
+ private:
+  struct Planes;
+  // Sizes the planes for an image of width x height and taps up to `reach` pixels away.
+  void layout(int width, int height, int reach);
+  // The first plane's first float, on a cache line.
+  float* planes_base();
+  // estimate_variance on checked arguments, in the planes as laid out.
+  void estimate(const DenoiseInput& input, int radius, int threads, float* out);
+
+  // Structure-of-arrays planes of stride_ floats a row (the image plus at least `pad_` columns of blank pixels on
+  // each side, which every weight rejects), rows interleaved (denoise.cpp).
+  int width_ = 0, height_ = 0, pad_ = 0, stride_ = 0;
+  std::vector<float> storage_;
+  std::vector<float> variance_;  // the spatial estimate, when the input has none
+};
+
+// One-shot form of Denoiser::denoise (allocates its scratch each call).
+void denoise(const DenoiseInput& input, const DenoiseSettings& settings, std::span<Vec3f> out);
+
+}  // namespace tripsitter::render

@@ -1,0 +1,107 @@
+#include <tripsitter/render/interactive.h>
+
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <tripsitter/scene/builtin.h>
+
+namespace tripsitter::render {
+namespace {
+
+constexpr int kW = 48, kH = 27;
+
+struct Field {
+  scene::Scene sc = *scene::builtin("field");
+  PathScene scene{sc.spheres};
+  PathSettings path() const {
+    PathSettings s{.width = kW, .height = kH, .spp = 1, .max_depth = 8, .seed = 3, .threads = 2, .sky = {}};
+    return s;
+  }
+  ThinLensCamera camera(double orbit_x = 0) const {
+    scene::CameraSettings c = sc.camera;
+    c.lookfrom.x += orbit_x;
+    return ThinLensCamera(c, kW, kH);
+  }
+};
+
+InteractiveSettings plain() {
+  InteractiveSettings s;
+  s.denoise = false;
+  return s;
+}
+
+TEST(Interactive, AStillCameraWithoutTheDenoiserIsPlainAccumulation) {
+  const Field f;
+  InteractivePath loop(f.scene, f.path(), plain());
+  std::vector<Vec3f> sum(static_cast<std::size_t>(kW * kH));
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    PathSettings s = f.path();
+    s.first_sample = k;
+    const ImageRgbF pass = render_path(f.scene, f.camera(), s);
+    for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += pass.pixels[i];
+    const ImageRgbF& picture = loop.frame(f.camera());
+    for (std::size_t i = 0; i < sum.size(); ++i)
+      ASSERT_EQ(picture.pixels[i], sum[i] * (1.0f / static_cast<float>(k + 1))) << "frame " << k << " pixel " << i;
+  }
+  EXPECT_EQ(loop.frames(), 3u);
+  EXPECT_DOUBLE_EQ(loop.mean_samples(), 3.0);
+}
+
+TEST(Interactive, RowsTakeTurnsAndTogetherMakeTheWholePass) {
+  const Field f;
+  InteractiveSettings settings = plain();
+  settings.row_step = 2;
+  InteractivePath loop(f.scene, f.path(), settings);
+  loop.frame(f.camera());
+  EXPECT_DOUBLE_EQ(loop.mean_samples(), static_cast<double>((kH + 1) / 2) / kH);  // rows 0, 2, ...
+  const ImageRgbF& picture = loop.frame(f.camera());
+  const ImageRgbF whole = render_path(f.scene, f.camera(), f.path());  // sample 0 of every pixel
+  EXPECT_EQ(picture.pixels, whole.pixels);
+}
+
+TEST(Interactive, AMoveKeepsHistoryWithReuseAndStartsOverWithout) {
+  const Field f;
+  for (bool reuse : {true, false}) {
+    InteractiveSettings settings = plain();
+    settings.reuse = reuse;
+    InteractivePath loop(f.scene, f.path(), settings);
+    for (int k = 0; k < 4; ++k) loop.frame(f.camera());
+    loop.frame(f.camera(0.02));
+    if (reuse) {
+      EXPECT_GT(loop.mean_samples(), 3.0);  // most pixels still see their surface
+      EXPECT_EQ(loop.frames(), 5u);
+    } else {
+      EXPECT_DOUBLE_EQ(loop.mean_samples(), 1.0);
+      EXPECT_EQ(loop.frames(), 1u);
+    }
+  }
+}
+
+TEST(Interactive, TheSameBytesOnAnyThreadCount) {
+  const Field f;
+  std::vector<std::vector<Vec3f>> pictures;
+  for (int threads : {1, 2, 3}) {
+    PathSettings s = f.path();
+    s.threads = threads;
+    InteractivePath loop(f.scene, s, InteractiveSettings{});
+    for (int k = 0; k < 3; ++k) loop.frame(f.camera(0.01 * k));
+    pictures.push_back(loop.frame(f.camera(0.05)).pixels);
+  }
+  EXPECT_EQ(pictures[0], pictures[1]);
+  EXPECT_EQ(pictures[0], pictures[2]);
+}
+
+TEST(Interactive, RestartForgetsTheHistory) {
+  const Field f;
+  InteractivePath loop(f.scene, f.path(), plain());
+  loop.frame(f.camera());
+  loop.frame(f.camera());
+  loop.restart();
+  loop.frame(f.camera());
+  EXPECT_EQ(loop.frames(), 1u);
+  EXPECT_DOUBLE_EQ(loop.mean_samples(), 1.0);
+}
+
+}  // namespace
+}  // namespace tripsitter::render
