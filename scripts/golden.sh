@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The fixed set of outputs that a change of structure must leave bit for bit as they are: hw frames of every
 # built-in scene and a scene file under both wires and both presets, what render prints about them, the float
-# reference and the path tracer at two sizes each, 4-frame animations in every mode, a VCD trace, encoded link
-# bytes on every wire (v3 with a fixed session), the device fed those bytes, and a decoded v3 stream.
+# reference and the path tracer at two sizes each (both samplers, and denoised), 4-frame animations in every
+# mode, a VCD trace, encoded link bytes on every wire (v3 with a fixed session), the device fed those bytes, and a
+# decoded v3 stream.
 #
 #   scripts/golden.sh BIN                  prints "sha256  name" for every output of the set (to record them)
 #   scripts/golden.sh BIN --check FILE     renders the set and compares it with FILE; exit 1 on any difference
@@ -41,16 +42,22 @@ run vcd render --scene demo --vcd vga.vcd --lines 600 --out vcd.png
 
 run normal-field render --scene field --mode normal --width 640 --height 480 --out normal-field.png
 run normal-cluster render --scene cluster --mode normal --width 317 --height 203 --bounces 0 --out normal-cluster.png
-run path-field render --scene field --mode path --width 160 --height 90 --spp 4 --threads 2 --quiet --out path-field.png
+# The independent sampler keeps the bytes it had before the Sobol sampler became the default.
+run path-field render --scene field --mode path --width 160 --height 90 --spp 4 --threads 2 --quiet --out path-field.png \
+    --sampler independent
 run path-three render --scene "$scene_file" --mode path --width 97 --height 61 --spp 8 --depth 6 --seed 7 --quiet \
-    --out path-three.png
+    --out path-three.png --sampler independent
+run path-field-sobol render --scene field --mode path --width 160 --height 90 --spp 4 --threads 2 --quiet \
+    --out path-field-sobol.png
+run path-field-denoised render --scene field --mode path --width 160 --height 90 --spp 4 --threads 2 --quiet \
+    --denoise --out path-field-denoised.png
 
 mkdir hw-anim normal-anim path-anim
 run anim-hw render --scene cluster --frames 4 --orbit 90 --out hw-anim/f_%02d.png --quiet
 run anim-normal render --scene field --mode normal --width 200 --height 150 --frames 4 --orbit -60 \
     --out normal-anim/f_%02d.png --quiet
 run anim-path render --scene cluster --mode path --width 80 --height 60 --spp 2 --frames 4 --orbit 120 \
-    --out path-anim/f_%02d.png --quiet
+    --out path-anim/f_%02d.png --quiet --sampler independent
 
 for wire in v1 v2 v3; do
   session=()

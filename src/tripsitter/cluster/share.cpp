@@ -17,6 +17,9 @@ namespace {
 constexpr int kProgressTag = 1;  // a rank's samples traced so far, one std::uint64_t; the last one is its total
 constexpr int kRowsTag = 2;      // all rows of a still that a rank traced, in place (rows_type)
 constexpr int kFrameTag = 3;     // one frame of an animation, 8-bit RGB
+constexpr int kAlbedoTag = 4;    // the rows of a still's feature buffers (render/aov.h), as kRowsTag's
+constexpr int kNormalTag = 5;
+constexpr int kDepthTag = 6;
 
 // A rank that waits polls with short sleeps rather than blocking in MPI: Open MPI's blocking calls spin,
 // and on a machine with as many ranks as cores that core would be taken from the ranks still tracing.
@@ -37,13 +40,13 @@ int rows_of(int rank, int size, int height) { return rank < height ? (height - r
 static_assert(std::is_trivially_copyable_v<render::Vec3f> && sizeof(render::Vec3f) == 3 * sizeof(float),
               "rows go over MPI as plain floats");
 
-// The rows of one rank as one MPI datatype, starting at its first row's first pixel: blocks of 3 width
-// floats, `size` rows apart. Freed with the object.
+// The rows of one rank in one plane of `floats` floats per pixel, as one MPI datatype starting at its first row's
+// first pixel: blocks of floats * width floats, `size` rows apart. Freed with the object.
 class RowsType {
  public:
-  RowsType(int rank, int size, const render::ImageRgbF& image) : rows_(rows_of(rank, size, image.height)) {
-    const MPI_Aint row_bytes = static_cast<MPI_Aint>(image.width) * static_cast<MPI_Aint>(sizeof(render::Vec3f));
-    MPI_Type_create_hvector(rows_, 3 * image.width, row_bytes * size, MPI_FLOAT, &type_);
+  RowsType(int rank, int size, int width, int height, int floats) : rows_(rows_of(rank, size, height)) {
+    const MPI_Aint row_bytes = static_cast<MPI_Aint>(width) * floats * static_cast<MPI_Aint>(sizeof(float));
+    MPI_Type_create_hvector(rows_, floats * width, row_bytes * size, MPI_FLOAT, &type_);
     MPI_Type_commit(&type_);
   }
   ~RowsType() { MPI_Type_free(&type_); }
@@ -57,32 +60,51 @@ class RowsType {
   MPI_Datatype type_ = MPI_DATATYPE_NULL;
 };
 
-render::Vec3f* first_pixel(render::ImageRgbF& image, int row) {
-  return image.pixels.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(image.width);
+// A plane of the picture that goes to rank 0 row by row: the image, or one of the feature buffers.
+struct Plane {
+  float* data;
+  int floats;  // per pixel
+  int tag;
+  float* row(int r, int width) const { return data + static_cast<std::size_t>(r) * static_cast<std::size_t>(width) * floats; }
+};
+
+std::vector<Plane> planes_of(render::ImageRgbF& image, render::Aovs* aovs) {
+  std::vector<Plane> planes{{&image.pixels.data()->x, 3, kRowsTag}};
+  if (aovs != nullptr) {
+    planes.push_back({&aovs->albedo.data()->x, 3, kAlbedoTag});
+    planes.push_back({&aovs->normal.data()->x, 3, kNormalTag});
+    planes.push_back({aovs->depth.data(), 1, kDepthTag});
+  }
+  return planes;
 }
 
 }  // namespace
 
 render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& scene, const render::ThinLensCamera& camera,
                                      const render::PathSettings& settings,
-                                     const std::function<void(std::uint64_t)>& on_samples) {
+                                     const std::function<void(std::uint64_t)>& on_samples, render::Aovs* aovs) {
   const int rank = job.rank(), size = job.size();
-  render::ImageRgbF image{settings.width, settings.height,
-                          std::vector<render::Vec3f>(static_cast<std::size_t>(settings.width) *
-                                                     static_cast<std::size_t>(settings.height))};
+  const int width = settings.width, height = settings.height;
+  render::ImageRgbF image{width, height, std::vector<render::Vec3f>(render::Aovs::pixels(width, height))};
+  if (aovs != nullptr) *aovs = render::Aovs(width, height);
+  const std::vector<Plane> planes = planes_of(image, aovs);
   const auto samples_of = [&](int r) {
     return static_cast<std::uint64_t>(rows_of(r, size, settings.height)) * settings.row_samples();
   };
 
   // Rank 0 posts its receives before tracing, so the other ranks' rows land in the image whenever they come.
+  // rows_received[r] holds rank r's requests, one per plane.
   std::vector<std::unique_ptr<RowsType>> types;
-  std::vector<MPI_Request> rows_received(static_cast<std::size_t>(size), MPI_REQUEST_NULL);
+  std::vector<std::vector<MPI_Request>> rows_received(static_cast<std::size_t>(size),
+                                                      std::vector<MPI_Request>(planes.size(), MPI_REQUEST_NULL));
   if (job.is_root()) {
     for (int r = 1; r < size; ++r) {
-      types.push_back(std::make_unique<RowsType>(r, size, image));
-      if (types.back()->rows() > 0)
-        MPI_Irecv(first_pixel(image, r), 1, types.back()->type(), r, kRowsTag, MPI_COMM_WORLD,
-                  &rows_received[static_cast<std::size_t>(r)]);
+      for (std::size_t p = 0; p < planes.size(); ++p) {
+        types.push_back(std::make_unique<RowsType>(r, size, width, height, planes[p].floats));
+        if (types.back()->rows() > 0)
+          MPI_Irecv(planes[p].row(r, width), 1, types.back()->type(), r, planes[p].tag, MPI_COMM_WORLD,
+                    &rows_received[static_cast<std::size_t>(r)][p]);
+      }
     }
   }
 
@@ -92,10 +114,13 @@ render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& sc
   std::exception_ptr error;
   std::jthread tracer([&] {
     try {
-      render::render_path_rows(scene, camera, settings, rank, size, image, [&](int) {
-        traced.fetch_add(settings.row_samples(), std::memory_order_relaxed);
-        job.test_kill_point();
-      });
+      render::render_path_rows(
+          scene, camera, settings, rank, size, image,
+          [&](int) {
+            traced.fetch_add(settings.row_samples(), std::memory_order_relaxed);
+            job.test_kill_point();
+          },
+          aovs);
     } catch (...) {
       error = std::current_exception();
     }
@@ -124,7 +149,8 @@ render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& sc
       done = traced_all;
       for (int r = 1; r < size; ++r) {
         int arrived = 0;
-        MPI_Test(&rows_received[static_cast<std::size_t>(r)], &arrived, MPI_STATUS_IGNORE);
+        std::vector<MPI_Request>& requests = rows_received[static_cast<std::size_t>(r)];
+        MPI_Testall(static_cast<int>(requests.size()), requests.data(), &arrived, MPI_STATUSES_IGNORE);
         done = done && arrived != 0 && counted_all[static_cast<std::size_t>(r)];
       }
       std::uint64_t total = 0;
@@ -148,12 +174,16 @@ render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& sc
   tracer.join();
   if (error) std::rethrow_exception(error);
   if (!job.is_root()) {
-    const RowsType mine(rank, size, image);
-    MPI_Request rows_sent = MPI_REQUEST_NULL;
-    if (mine.rows() > 0) MPI_Isend(first_pixel(image, rank), 1, mine.type(), 0, kRowsTag, MPI_COMM_WORLD, &rows_sent);
+    std::vector<std::unique_ptr<RowsType>> mine;
+    std::vector<MPI_Request> rows_sent(planes.size(), MPI_REQUEST_NULL);
+    for (std::size_t p = 0; p < planes.size(); ++p) {
+      mine.push_back(std::make_unique<RowsType>(rank, size, width, height, planes[p].floats));
+      if (mine.back()->rows() > 0)
+        MPI_Isend(planes[p].row(rank, width), 1, mine.back()->type(), 0, planes[p].tag, MPI_COMM_WORLD, &rows_sent[p]);
+    }
     const std::uint64_t total = samples_of(rank);
     MPI_Send(&total, 1, MPI_UINT64_T, 0, kProgressTag, MPI_COMM_WORLD);
-    wait(rows_sent);
+    for (MPI_Request& request : rows_sent) wait(request);
   }
   return image;
 }

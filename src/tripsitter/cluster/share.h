@@ -19,10 +19,12 @@ namespace tripsitter::cluster {
 // settings.threads threads of its own, and sends them to rank 0. Rank 0 returns the whole image, equal to
 // render::render_path's; it calls on_samples(n) on the calling thread as the samples of any rank complete,
 // so its progress is the whole job's. Other ranks return an image holding their own rows only and never
-// call on_samples.
+// call on_samples. With `aovs`, the feature buffers (render/aov.h) travel the same way: rank 0's are
+// render::render_path's, other ranks' hold their own rows.
 render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& scene, const render::ThinLensCamera& camera,
                                      const render::PathSettings& settings,
-                                     const std::function<void(std::uint64_t)>& on_samples = {});
+                                     const std::function<void(std::uint64_t)>& on_samples = {},
+                                     render::Aovs* aovs = nullptr);
 
 // The frames of an animation dealt to the ranks: frame i belongs to rank i % K. Every rank walks through all
 // frames in order; the owner of a frame renders it and, unless it is rank 0, sends it; rank 0 receives the

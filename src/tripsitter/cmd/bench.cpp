@@ -18,6 +18,7 @@
 #include <tripsitter/core/parallel.h>
 #include <tripsitter/frontend/app.h>
 #include <tripsitter/modes/frame_source.h>
+#include <tripsitter/modes/path_quality.h>
 #include <tripsitter/render/path_tracer.h>
 #include <tripsitter/render/primary.h>
 #include <tripsitter/scene/builtin.h>
@@ -43,6 +44,9 @@ struct BenchOptions {
   std::string mode = "normal";
   int threads = 0;       // --threads: only this count (0: 1 and all)
   std::string preset = "wide";  // --scene with --mode hw
+  bool quality = true;           // the suite's path_relmse_field_* figures
+  std::string cache = TRIPSITTER_BENCH_CACHE;  // where their references are kept
+  std::string pictures;          // where their pictures are written (empty: nowhere)
 };
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
@@ -143,22 +147,45 @@ class Report {
       std::cerr << figure << " on " << threads << " thread(s): " << value << " " << unit << "\n";
       return;
     }
-    if (!table_started_) {
-      std::printf("\n%-24s %7s %12s  %-10s %12s  %-16s %8s\n", "figure", "threads", "value", "unit", "Embree",
-                  "Embree's best", "ours/Embree");
-      table_started_ = true;
-    }
+    if (!table_started_) add_header();
     std::printf("%-24s %7d %12.2f  %-10s", figure.c_str(), threads, value, unit.c_str());
     if (embree) std::printf(" %12.2f  %-16s %8.2f", embree->first, embree->second.c_str(), value / embree->first);
     std::printf("\n");
     std::fflush(stdout);
   }
 
+  // A picture's error against its reference (modes/path_quality.h): relMSE as the value, the rest beside it.
+  void add_quality(const std::string& figure, int threads, const modes::QualityFigure& q) {
+    json& f = doc_[figure];
+    f["unit"] = "relMSE";
+    const std::string t = "threads_" + std::to_string(threads);
+    f[t] = q.error.relmse;
+    f["bias_" + t] = q.error.bias;
+    f["block_relmse_" + t] = q.error.block_relmse;
+    f["frames_" + t] = q.frames;
+    f["seconds_" + t] = q.seconds;
+    f["mean_spp_" + t] = q.mean_samples;
+    if (o_.json) {
+      std::cerr << figure << " on " << threads << " thread(s): relMSE " << q.error.relmse << ", bias " << q.error.bias
+                << "\n";
+      return;
+    }
+    if (!table_started_) add_header();
+    std::printf("%-24s %7d %12.5f  %-10s bias %+.4f, 8x8 blocks %.5f; %d frames in %.2f s, %.1f spp\n", figure.c_str(),
+                threads, q.error.relmse, "relMSE", q.error.bias, q.error.block_relmse, q.frames, q.seconds,
+                q.mean_samples);
+    std::fflush(stdout);
+  }
   void finish() {
     if (o_.json) std::cout << doc_.dump(2) << "\n";
   }
 
  private:
+  void add_header() {
+    std::printf("\n%-24s %7s %12s  %-10s %12s  %-16s %8s\n", "figure", "threads", "value", "unit", "Embree",
+                "Embree's best", "ours/Embree");
+    table_started_ = true;
+  }
   const BenchOptions& o_;
   json doc_;
   bool table_started_ = false;
@@ -261,7 +288,9 @@ void bench_path_brute_force(const BenchOptions& o, Report& r, const std::string&
         "Msamples/s");
 }
 
-// The window's path mode without the window: one more sample per pixel per frame, accumulated and encoded.
+// The window's path mode without the window, as a person uses it while moving: E held (the camera orbits its
+// target at the window's 45 degrees per second, advanced by 1/60 s per frame), each frame traced, reprojected,
+// denoised and encoded (render/interactive.h).
 void bench_path_interactive(const BenchOptions& o, Report& r, const std::string& figure, const scene::Scene& sc) {
   for (int t : thread_counts(o)) {
     frontend::AppConfig config;
@@ -269,8 +298,38 @@ void bench_path_interactive(const BenchOptions& o, Report& r, const std::string&
     config.mode = modes::Mode::kPath;
     config.threads = t;
     frontend::App app(config);
-    r.add(figure, t, median_rate(o, [&] { app.advance(0.0); return 1.0; }), "frames/s");
+    app.handle({frontend::Input::Kind::kKeyDown, host::Key::kE});
+    r.add(figure, t, median_rate(o, [&] { app.advance(1.0 / 60); return 1.0; }), "frames/s");
   }
+}
+
+// path_relmse_field_*: the window's path mode against a converged reference of `field` at 640x480 (rendered once
+// and kept in the cache), on all threads; and the plain path tracer for comparison (docs/denoiser.md).
+void bench_path_quality(const BenchOptions& o, Report& r, const scene::Scene& field) {
+  modes::QualitySettings q;
+  q.threads = o.threads;
+  q.max_depth = field.render.max_depth;
+  q.cache_dir = o.cache;
+  q.pictures_dir = o.pictures;
+  q.say = [](const std::string& s) { std::cerr << s << std::endl; };
+  modes::PathQuality quality(field, q);
+  const int t = core::thread_count(o.threads);
+  const modes::Reference& ref = quality.reference();
+  r.note("path_reference_field", {{"spp", q.reference_spp}, {"noise_relmse", ref.noise_relmse}, {"cached", ref.cached},
+                                  {"orbit_spp", q.orbit_reference_spp}, {"orbit_noise_relmse", quality.orbit_noise_relmse()},
+                                  {"cache", o.cache}});
+  if (!o.json)
+    std::printf("reference: field at %d spp (relMSE floor %.5f), orbit frames at %d spp (floor %.5f), in %s\n",
+                q.reference_spp, ref.noise_relmse, q.orbit_reference_spp, quality.orbit_noise_relmse(),
+                o.cache.empty() ? "memory only" : o.cache.c_str());
+  r.add_quality("path_relmse_field_1frame", t, quality.still(true, 1, 0, "path_relmse_field_1frame"));
+  r.add_quality("path_relmse_field_0.25s", t, quality.still(true, 0, 0.25, "path_relmse_field_0.25s"));
+  r.add_quality("path_relmse_field_1s", t, quality.still(true, 0, 1.0, "path_relmse_field_1s"));
+  r.add_quality("path_relmse_field_orbit", t, quality.orbit(true, true, "path_relmse_field_orbit"));
+  r.add_quality("plain_relmse_field_64spp", t, quality.plain(64, render::SamplerKind::kSobol, "plain_relmse_field_64spp"));
+  r.add_quality("plain_relmse_field_1s", t, quality.still(false, 0, 1.0, "plain_relmse_field_1s"));
+  r.add_quality("plain_relmse_field_10s", t, quality.still(false, 0, 10.0, "plain_relmse_field_10s"));
+  r.add_quality("plain_relmse_field_orbit", t, quality.orbit(false, false, "plain_relmse_field_orbit"));
 }
 
 int run_suite(const BenchOptions& o) {
@@ -292,6 +351,7 @@ int run_suite(const BenchOptions& o) {
     bench_path_brute_force(o, r, "path_msamples_field_brute_force", sc);
   }
   bench_path_interactive(o, r, "path_fps_field", field);
+  if (o.quality) bench_path_quality(o, r, field);
   r.finish();
   return kExitOk;
 }
@@ -348,11 +408,17 @@ void add_bench_command(CLI::App& app, Action& run) {
                   "path (path tracer at the scene's size and depth, Msamples/s, with the path tracer over Embree)")
       ->capture_default_str();
   cmd->add_option("--threads", o->threads, "Only this many threads (default: 1 and all)")->check(CLI::Range(1, 1024));
+  cmd->add_flag("!--no-quality", o->quality, "Suite: skip the path_relmse_field_* figures (the first run renders their references, minutes)");
+  cmd->add_option("--cache", o->cache, "Suite: where the references of path_relmse_field_* are kept (empty: not kept)")
+      ->capture_default_str();
   cmd->add_option("--preset", o->preset,
                   "With --scene and --mode hw: the device preset (" + join(device::preset_names()) +
                       "); with path, 1 sample per pixel per frame and the camera orbiting 0.5 degrees back and forth, "
                       "so that no pixel stops at 255 samples")
       ->capture_default_str();
+  cmd->add_option("--pictures", o->pictures,
+                  "Suite: write the pictures path_relmse_field_* and plain_relmse_field_* measure, and their references, "
+                  "as PNG files in this directory");
   cmd->callback([o, cmd, &run] {
     const bool mode_given = cmd->count("--mode") > 0;
     const bool preset_given = cmd->count("--preset") > 0;

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <tripsitter/display/exr.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/link/frame.h>
 
@@ -542,6 +543,14 @@ TEST_F(Cli, BadFlagsExitTwoAndNameTheFlag) {
       {"render --orbit 10", "--orbit"},
       {"render --mode normal --vcd " + path("v.vcd"), "--vcd"},
       {"render --compare --mode normal", "--compare"},
+      {"render --denoise", "--denoise"},                   // hw pictures are not noisy
+      {"render --mode normal --aov " + path(""), "--aov"},
+      {"render --mode path --sampler halton", "--sampler"},
+      {"render --mode path --aov " + path("missing-dir"), "missing-dir"},
+      {"render --mode path --exr-pixel double", "--exr-pixel"},
+      {"render --mode path --frames 2 --aov " + path(""), "--aov"},
+      {"run --no-denoise", "--no-denoise"},                // hw has no denoiser
+      {"run --mode path --row-step 0", "--row-step"},
       {"run --scale 0", "--scale"},
       {"run --mode sideways", "--mode"},
       {"link decode --wire v9", "wire"},
@@ -561,6 +570,25 @@ TEST_F(Cli, BadFlagsExitTwoAndNameTheFlag) {
     EXPECT_NE(plain.err.find(c.expected), std::string::npos) << c.args << "\n" << plain.err;
     EXPECT_FALSE(fs::exists(path("x.png"))) << c.args;
     EXPECT_FALSE(fs::exists(path("v.vcd"))) << c.args;
+  }
+}
+
+TEST_F(Cli, PathStillWritesExrWithLayersAndAovPngs) {
+  const Result r = run("render --scene field --mode path --width 40 --height 24 --spp 4 --denoise --threads 2 --quiet --out " +
+                       path("f.exr") + " --aov " + path(""));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto exr = tripsitter::display::read_exr(path("f.exr"));
+  ASSERT_TRUE(exr) << exr.error().message;
+  EXPECT_EQ(exr.value().width, 40);
+  EXPECT_EQ(exr.value().height, 24);
+  for (const char* name : {"R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "Z"})
+    EXPECT_NE(tripsitter::display::find_channel(exr.value(), name), nullptr) << name;
+  EXPECT_EQ(tripsitter::display::find_channel(exr.value(), "Z")->pixel, tripsitter::display::ExrPixel::kFloat);
+  EXPECT_EQ(tripsitter::display::find_channel(exr.value(), "R")->pixel, tripsitter::display::ExrPixel::kHalf);
+  for (const char* name : {"albedo.png", "normal.png", "depth.png"}) {
+    const auto png = tripsitter::display::read_png(path(name));
+    ASSERT_TRUE(png) << name;
+    EXPECT_EQ(png.value().width, 40) << name;
   }
 }
 

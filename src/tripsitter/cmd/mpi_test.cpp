@@ -109,6 +109,23 @@ TEST_F(MpiJob, AnAnimationIsTheSameBytesOnOneTwoAndFourRanksAsWithoutMpirun) {
   }
 }
 
+// The feature buffers travel with the rows: the EXR (beauty and layers), the AOV pictures and the denoised
+// picture, which needs them, are the same bytes on two ranks as without mpirun.
+TEST_F(MpiJob, FeatureBuffersAndTheDenoisedStillAreTheSameBytesOnTwoRanks) {
+  fs::create_directories(path("plain"));
+  fs::create_directories(path("ranks"));
+  const std::string args = kStill + " --threads 1 --denoise";
+  const Result plain = run(args + " --out " + path("plain/still.exr") + " --aov " + path("plain"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const Result r = mpirun(2, args + " --out " + path("ranks/still.exr") + " --aov " + path("ranks"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* name : {"still.exr", "albedo.png", "normal.png", "depth.png"}) {
+    const std::string expected = slurp(path(std::string("plain/") + name));
+    ASSERT_FALSE(expected.empty()) << name;
+    EXPECT_EQ(slurp(path(std::string("ranks/") + name)), expected) << name;
+  }
+}
+
 TEST_F(MpiJob, AKilledRankFailsTheJobAndNothingIsWritten) {
   const Result r = mpirun(2, kStill + " --out " + path("still.png"), "TRIPSITTER_MPI_TEST_KILL_RANK=1");
   EXPECT_NE(r.exit_code, 0) << r.err;

@@ -18,11 +18,13 @@
 #include <tripsitter/core/screen.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/resources.h>
+#include <tripsitter/display/exr.h>
 #include <tripsitter/display/monitor.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/display/vcd.h>
 #include <tripsitter/modes/animation.h>
 #include <tripsitter/modes/device_compare.h>
+#include <tripsitter/render/aov.h>
 #include <tripsitter/scene/builtin.h>
 
 #include "commands.h"
@@ -166,6 +168,17 @@ void compare_path(const RenderOptions& o, const modes::SourceConfig& config, con
   }
 }
 
+// --aov DIR: the feature buffers as albedo.png, normal.png and depth.png (render/aov.h says how each is drawn).
+void write_aovs(const std::string& dir, const render::Aovs& aovs) {
+  for (const auto& [name, image] : {std::pair{"albedo", render::albedo_image(aovs)}, std::pair{"normal", render::normal_image(aovs)},
+                                    std::pair{"depth", render::depth_image(aovs)}}) {
+    const std::string path = (std::filesystem::path(dir) / (std::string(name) + ".png")).string();
+    auto written = display::write_png(path, image);
+    if (!written) throw InputError(written.error().message);
+  }
+  std::cerr << "wrote albedo.png, normal.png and depth.png in " << dir << "\n";
+}
+
 // Samples of a whole image.
 std::uint64_t samples_of(const render::PathSettings& s) {
   return s.row_samples() * static_cast<std::uint64_t>(s.height);
@@ -179,7 +192,7 @@ int run_animation(const RenderOptions& o, modes::Mode mode, const scene::Scene& 
   const std::unique_ptr<display::VideoPipe> video = open_video(o, config.width, config.height);
   core::ProgressBar bar("animation", static_cast<std::uint64_t>(o.frames), "frames", !o.quiet, std::cerr);
   modes::animate(*source, o.frames, o.orbit, {}, [&](int i, const modes::Frame* frame) {
-    write_quietly(frame_path(o.out, i), *frame);
+    write_quietly(frame_path(o.out, i), *frame, o);
     if (video) video->add(frame->rgb8());
     bar.add(1);
   });
@@ -215,7 +228,7 @@ int run_device_alone(const RenderOptions& o) {
             << " late pixels on " << captured.stats.late_lines << " lines\n";
   modes::Frame frame;
   frame.vga = std::move(captured.image);
-  write_image(o.out, frame);
+  write_image(o.out, frame, o);
   keep(vcd.get(), o.vcd);
   return kExitOk;
 }
@@ -281,7 +294,7 @@ int run_render(const RenderOptions& o) {
                   d.over_one_level, d.max_level_difference);
     }
   }
-  write_image(o.out, frame);
+  write_image(o.out, frame, o);
   keep(vcd.get(), o.vcd);
   return kExitOk;
 }
@@ -314,7 +327,17 @@ void check_options(const RenderOptions& o, modes::Mode mode) {
                      "its frame memory accumulates the frames of a still world");
   if (o.accumulate != 0 && (o.frames > 0 || !o.link_input.empty()))
     throw InputError("--accumulate shows one still world for several frames: not with --frames or --link-input");
+  if (!o.aov.empty() && o.frames > 0) throw InputError("--aov writes the feature buffers of a still: not with --frames");
   if (o.frames > 0) check_pattern(o.out);
+  if (mode != Mode::kPath) {
+    if (o.sampler != "sobol") throw InputError("--sampler needs --mode path");
+    if (o.denoise) throw InputError("--denoise needs --mode path (hw and normal pictures are not noisy)");
+    if (!o.aov.empty()) throw InputError("--aov needs --mode path (the path tracer writes the feature buffers)");
+    if (is_exr(o.out)) throw InputError("--out " + o.out + ": EXR files hold the path tracer's linear light; use --mode path, or a .png name");
+  }
+  if (o.sampler != "sobol" && o.sampler != "independent")
+    throw InputError("--sampler " + o.sampler + ": expected sobol or independent");
+  if (o.exr_pixel != "half" && o.exr_pixel != "float") throw InputError("--exr-pixel " + o.exr_pixel + ": expected half or float");
 }
 
 void check_outputs(const RenderOptions& o) {
@@ -325,6 +348,8 @@ void check_outputs(const RenderOptions& o) {
     if (!o.video.empty()) check_output_path(o.video);
   }
   if (!o.vcd.empty()) check_output_path(o.vcd);
+  if (!o.aov.empty() && !std::filesystem::is_directory(o.aov))
+    throw InputError("--aov " + o.aov + ": not a directory (create it first)");
 }
 
 modes::SourceConfig source_config(const RenderOptions& o, modes::Mode mode, const scene::Scene& scene) {
@@ -341,6 +366,9 @@ modes::SourceConfig source_config(const RenderOptions& o, modes::Mode mode, cons
   c.spp = o.spp != 0 ? o.spp : scene.render.spp;
   c.max_depth = o.depth != 0 ? o.depth : scene.render.max_depth;
   c.seed = o.seed;
+  c.sampler = o.sampler == "independent" ? render::SamplerKind::kIndependent : render::SamplerKind::kSobol;
+  c.denoise = o.denoise;
+  c.aovs = !o.aov.empty() || is_exr(o.out);
   return c;
 }
 
@@ -364,7 +392,8 @@ int run_path_still(const RenderOptions& o, const scene::Scene& scene, const mode
                  scene.spheres.size(), std::chrono::duration<double>(t1 - t0).count(), s.width, s.height, s.spp,
                  trace_seconds, static_cast<double>(samples_of(s)) / trace_seconds / 1e6, where.c_str());
   }
-  write_image(o.out, frame);
+  write_image(o.out, frame, o);
+  if (!o.aov.empty()) write_aovs(o.aov, *frame.aovs);
   return kExitOk;
 }
 
@@ -374,13 +403,33 @@ std::string frame_path(const std::string& pattern, int frame) {
   return buf;
 }
 
-void write_quietly(const std::string& path, const modes::Frame& frame) {
-  auto written = modes::write_png(path, frame);
+bool is_exr(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".exr";
+}
+
+void write_quietly(const std::string& path, const modes::Frame& frame, const RenderOptions& o) {
+  if (!is_exr(path)) {
+    auto written = modes::write_png(path, frame);
+    if (!written) throw InputError(written.error().message);
+    return;
+  }
+  // Linear light as traced, the feature buffers as layers (albedo.R/G/B, normal.X/Y/Z, Z).
+  const auto floats = [](const std::vector<render::Vec3f>& v) { return std::span<const float>(&v.data()->x, 3 * v.size()); };
+  display::ExrImage image{frame.linear.width, frame.linear.height, {}};
+  display::add_rgb(image, "", floats(frame.linear.pixels));
+  if (frame.aovs != nullptr) {
+    display::add_rgb(image, "albedo", floats(frame.aovs->albedo));
+    display::add_xyz(image, "normal", floats(frame.aovs->normal));
+    display::add_depth(image, frame.aovs->depth);
+  }
+  auto written = display::write_exr(path, image, o.exr_pixel == "float" ? display::ExrPixel::kFloat : display::ExrPixel::kHalf);
   if (!written) throw InputError(written.error().message);
 }
 
-void write_image(const std::string& path, const modes::Frame& frame) {
-  write_quietly(path, frame);
+void write_image(const std::string& path, const modes::Frame& frame, const RenderOptions& o) {
+  write_quietly(path, frame, o);
   const core::ImageRgb8& rgb = frame.rgb;
   const int width = frame.vga.pixels.empty() ? rgb.width : frame.vga.width;
   const int height = frame.vga.pixels.empty() ? rgb.height : frame.vga.height;
@@ -418,7 +467,10 @@ void add_render_command(CLI::App& app, Action& run) {
       ->check(CLI::Range(1, scene::kMaxImageSide));
   cmd->add_option("--height", o->height, "Image height, normal and path modes (default: the scene's render.height; hw is 480)")
       ->check(CLI::Range(1, scene::kMaxImageSide));
-  cmd->add_option("--out", o->out, "Output PNG file")->capture_default_str();
+  cmd->add_option("--out", o->out,
+                  "Output file: PNG, or with --mode path FILE.exr (OpenEXR: linear RGB, with the feature buffers as "
+                  "layers albedo.R/G/B, normal.X/Y/Z and Z)")
+      ->capture_default_str();
   cmd->add_option("--vcd", o->vcd, "Also dump the VGA signal (hsync, vsync, r, g, b) as a VCD file (hw only)");
   cmd->add_option("--lines", o->lines, "Lines of signal in the VCD, counted from the device's reset at the start of "
                                        "vertical blanking (line 480); 525 is one whole frame")
@@ -447,6 +499,19 @@ void add_render_command(CLI::App& app, Action& run) {
                   "normal and path modes, and --compare's float path tracer: worker threads (default: all)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--quiet", o->quiet, "No progress bar or summary on stderr");
+  cmd->add_option("--sampler", o->sampler,
+                  "--mode path: where samples come from: sobol (Owen-scrambled Sobol points, less noise at equal spp) or "
+                  "independent (a random stream per pixel)")
+      ->capture_default_str();
+  cmd->add_flag("--denoise", o->denoise,
+                "--mode path: filter the picture with the edge-avoiding a-trous denoiser, guided by the first hits' "
+                "albedo, normal and depth (docs/denoiser.md); stills and animations");
+  cmd->add_option("--aov", o->aov,
+                  "--mode path, a still: also write the feature buffers (first hits' albedo, normal, depth) as "
+                  "albedo.png, normal.png and depth.png in this existing directory");
+  cmd->add_option("--exr-pixel", o->exr_pixel,
+                  "With --out FILE.exr: half or float channels (depth is always float)")
+      ->capture_default_str();
   cmd->add_option("--frames", o->frames,
                   "Render an animation of N frames; --out is then a pattern such as DIR/frame_%04d.png")
       ->check(CLI::Range(1, 1'000'000));

@@ -40,6 +40,10 @@ struct RenderOptions {
   std::uint64_t seed = 1;
   int threads = 0;
   bool quiet = false;
+  std::string sampler = "sobol";  // path: sobol or independent
+  bool denoise = false;           // path: filter the picture (render/denoise.h)
+  std::string aov;                // path stills: write the feature buffers here as PNG files
+  std::string exr_pixel = "half"; // --out FILE.exr: half or float channels (depth is always float)
   // animation
   int frames = 0;
   double orbit = 0;
@@ -65,9 +69,12 @@ int run_path_still(const RenderOptions& o, const scene::Scene& scene, const mode
 std::string frame_path(const std::string& pattern, int frame);
 
 // The frame's picture as a PNG file; throws InputError when it cannot be written.
-void write_quietly(const std::string& path, const modes::Frame& frame);
+// Whether --out names an OpenEXR file (.exr, any case).
+bool is_exr(const std::string& path);
+// The frame to `path`: PNG, or OpenEXR for a .exr name (path mode: linear light, feature buffers as layers).
+void write_quietly(const std::string& path, const modes::Frame& frame, const RenderOptions& o);
 // The same, and says so on stderr.
-void write_image(const std::string& path, const modes::Frame& frame);
+void write_image(const std::string& path, const modes::Frame& frame, const RenderOptions& o);
 
 // The --video pipe for frames of width x height, or null without --video; throws InputError for a path the
 // pipe cannot take.

@@ -52,8 +52,9 @@ std::string on_ranks(const cluster::Job& job) {
 
 // A still: rank r of K traces rows r, r + K, ...; rank 0 gathers them, reports and writes.
 int run_still(const cluster::Job& job, const RenderOptions& o, const scene::Scene& scene) {
-  return run_path_still(o, scene, [&job](const auto& path_scene, const auto& camera, const auto& s, const auto& on_samples) {
-    return cluster::render_path_shared(job, path_scene, camera, s, on_samples);
+  return run_path_still(o, scene, [&job](const auto& path_scene, const auto& camera, const auto& s, const auto& on_samples,
+                                         render::Aovs* aovs) {
+    return cluster::render_path_shared(job, path_scene, camera, s, on_samples, aovs);
   }, job.is_root(), on_ranks(job));
 }
 
@@ -82,7 +83,7 @@ int run_frames(const cluster::Job& job, const RenderOptions& o, const scene::Sce
     } else {
       return;
     }
-    write_quietly(frame_path(o.out, i), frame);
+    write_quietly(frame_path(o.out, i), frame, o);
     if (video) video->add(frame.rgb);
     bar.add(1);
   });
@@ -104,6 +105,9 @@ int run_render_mpi(const RenderOptions& o) {
   std::exception_ptr problem;
   try {
     check_options(o, modes::Mode::kPath);
+    if (o.frames > 0 && is_exr(o.out))
+      throw InputError("--out " + o.out + ": under mpirun an animation's frames travel to rank 0 as 8-bit RGB, so "
+                       "they cannot be written as EXR; write PNG frames, or run without mpirun");
     if (job.is_root()) check_outputs(o);
     scene = load_scene(o.scene);
   } catch (...) {

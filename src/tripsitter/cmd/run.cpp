@@ -26,6 +26,9 @@ struct RunCommandOptions {
   std::uint64_t frames = 0;
   int spp = 0;    // 0: not given
   int depth = 0;
+  bool denoise = true;
+  bool reuse = true;
+  int row_step = 1;
 };
 
 int run_run(const RunCommandOptions& o) {
@@ -38,12 +41,17 @@ int run_run(const RunCommandOptions& o) {
   if (c.mode == modes::Mode::kPath && o.spp != 0)
     throw InputError("--spp: the window's --mode path adds one sample per pixel per frame while the camera is still; "
                      "--spp sets the device's samples per frame with --mode hw --preset path");
+  if (c.mode != modes::Mode::kPath && (!o.denoise || !o.reuse || o.row_step != 1))
+    throw InputError("--no-denoise, --no-reuse and --row-step need --mode path");
   c.preset = load_preset(o.preset, o.workers, -1, hw ? o.spp : 0, hw ? o.depth : 0);
   if (!hw) c.max_depth = o.depth;
   c.scene = load_scene(o.scene);
   c.screenshot_dir = o.screenshot_dir;
   c.seed = o.seed;
   c.threads = o.threads;
+  c.denoise = o.denoise;
+  c.reuse = o.reuse;
+  c.row_step = o.row_step;
   const frontend::LatencyStats latency = frontend::run_window(std::move(c), {o.scale, o.frames});
   if (latency.samples > 0)
     std::fprintf(stderr, "key-to-photon latency: mean %.1f ms, max %.1f ms over %d key presses\n", latency.mean_ms,
@@ -59,9 +67,11 @@ void add_run_command(CLI::App& app, Action& run) {
       "run",
       "Open a window that shows the board's VGA monitor live; the keyboard drives the host's camera.\n"
       "Keys: W/S forward/back, A/D left/right, I/K look up/down, J/L look left/right, Q/E orbit the target,\n"
-      "R reset, Tab figures, H help, F12 screenshot (PNG in --screenshot-dir), Esc or closing the window quits.\n"
-      "Tab shows frames per second and frame time; in hw mode late lines, link bytes and saturations, and with\n"
-      "--preset path the samples per pixel accumulated and the device's workers; in path mode samples per pixel.");
+      "R reset, Tab figures, H help, N denoiser on/off (path mode), F12 screenshot (PNG in --screenshot-dir), Esc or\n"
+      "closing the window quits. Tab shows frames per second and frame time; in hw mode late lines, link bytes and\n"
+      "saturations, and with --preset path the samples per pixel accumulated and the device's workers; in path mode\n"
+      "samples per pixel and whether the denoiser is on. Path mode keeps earlier frames while the camera moves\n"
+      "(reprojected through the depth buffer) and filters the picture (docs/denoiser.md).");
   cmd->add_option("--scene", o->scene, "Built-in scene name or JSON scene file")->capture_default_str();
   cmd->add_option("--mode", o->mode,
                   "hw: every camera change goes host -> link -> device -> VGA capture (with --preset path the\n"
@@ -87,6 +97,12 @@ void add_run_command(CLI::App& app, Action& run) {
   cmd->add_option("--seed", o->seed, "path: random seed")->capture_default_str();
   cmd->add_option("--threads", o->threads, "normal and path modes: worker threads (default: all)")->check(CLI::Range(1, 1024));
   cmd->add_option("--frames", o->frames, "Quit after this many frames (default: run until Esc)");
+  cmd->add_flag("!--no-denoise", o->denoise, "path: start with the denoiser off (N turns it on)");
+  cmd->add_flag("!--no-reuse", o->reuse, "path: start over at every camera move instead of reprojecting earlier frames");
+  cmd->add_option("--row-step", o->row_step,
+                  "path: trace paths on 1 row of every N per frame, the rest carried by earlier frames (faster frames, "
+                  "more lag)")
+      ->capture_default_str()->check(CLI::Range(1, 8));
   cmd->callback([o, &run] { run = [o] { return run_run(*o); }; });
 }
 

@@ -25,6 +25,9 @@ App::App(AppConfig config) : config_(std::move(config)) {
   c.max_depth = config_.max_depth > 0 ? config_.max_depth : config_.scene.render.max_depth;
   c.seed = config_.seed;
   c.progressive = true;
+  c.denoise = config_.denoise;
+  c.reuse = config_.reuse;
+  c.row_step = config_.row_step;
   source_ = modes::make_frame_source(config_.scene, c);
   info_.spheres = config_.scene.spheres.size();
   info_.device_path = config_.mode == Mode::kHw && config_.preset.path && config_.wire != link::WireVersion::kV1;
@@ -46,6 +49,10 @@ void App::handle(const Input& input) {
     case Input::Kind::kScreenshot: screenshot(); break;
     case Input::Kind::kToggleOverlay: overlay_ = !overlay_; break;
     case Input::Kind::kToggleHelp: help_ = !help_; break;
+    case Input::Kind::kToggleDenoise:
+      // Only a source with a denoiser (path mode) takes it; the picture is redrawn with or without.
+      if (source_->set_denoise(!source_->denoise())) dirty_ = true;
+      break;
     case Input::Kind::kQuit: quit_ = true; break;
   }
 }
@@ -79,6 +86,8 @@ void App::render_frame() {
   info_.link_ms = frame.link_seconds * 1e3;
   info_.saturations = frame.saturations.total();
   info_.samples = frame.samples;
+  info_.mean_samples = frame.mean_samples;
+  info_.denoise = source_->denoise();
   dirty_ = false;
   ++serial_;
   info_.frame_ms = ms_since(start);

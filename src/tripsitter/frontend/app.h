@@ -30,11 +30,14 @@ struct AppConfig {
   std::uint64_t seed = 1;      // path mode
   int max_depth = 0;           // path mode: bounces along one path (0: the scene's render.max_depth)
   int threads = 0;             // normal and path modes, 0: all
+  bool denoise = true;         // path mode: filter the picture (N toggles it)
+  bool reuse = true;           // path mode: reproject earlier frames while the camera moves
+  int row_step = 1;            // path mode: paths on 1 row of every row_step per frame
   host::ControlSpeeds speeds;
 };
 
 struct Input {
-  enum class Kind { kKeyDown, kKeyUp, kScreenshot, kToggleOverlay, kToggleHelp, kQuit };
+  enum class Kind { kKeyDown, kKeyUp, kScreenshot, kToggleOverlay, kToggleHelp, kToggleDenoise, kQuit };
   Kind kind;
   host::Key key = host::Key::kW;  // for key events
 };
@@ -49,6 +52,9 @@ struct FrameInfo {
   double link_ms = 0;        // at the SPI clock
   std::uint64_t saturations = 0;
   int samples = 0;           // path, and hw with a path-tracing device: samples per pixel accumulated in the frame shown
+                             // (path: frames since the camera last moved)
+  double mean_samples = 0;   // path: samples per pixel in the picture, mean (reprojected history included)
+  bool denoise = false;      // path: the denoiser is on
   bool device_path = false;  // hw: the device path-traces (a path-tracing preset fed v2 worlds)
   int workers = 0;           // hw: the device's workers
 };

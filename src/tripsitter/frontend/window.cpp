@@ -82,6 +82,7 @@ std::vector<PolledInput> Window::poll() {
         case SDL_SCANCODE_F12: out.push_back({{Input::Kind::kScreenshot}, t}); break;
         case SDL_SCANCODE_TAB: out.push_back({{Input::Kind::kToggleOverlay}, t}); break;
         case SDL_SCANCODE_H: out.push_back({{Input::Kind::kToggleHelp}, t}); break;
+        case SDL_SCANCODE_N: out.push_back({{Input::Kind::kToggleDenoise}, t}); break;
         default: break;
       }
     }
@@ -140,7 +141,8 @@ std::vector<std::string> overlay_text(const FrameInfo& info, Mode mode) {
     }
   }
   if (mode == Mode::kPath) {
-    std::snprintf(buf, sizeof buf, "%d samples per pixel", info.samples);
+    std::snprintf(buf, sizeof buf, "%.1f samples per pixel (%d frames still), denoiser %s", info.mean_samples,
+                  info.samples, info.denoise ? "on" : "off");
     lines.emplace_back(buf);
   }
   return lines;
@@ -151,7 +153,8 @@ std::vector<std::string> help_text() {
           "I/K  look up/down     J/L  look left/right",
           "Q/E  orbit the target R    reset",
           "Tab  figures          F12  screenshot",
-          "H    this help        Esc  quit"};
+          "N    denoiser (path)  H    this help",
+          "Esc  quit"};
 }
 
 }  // namespace tripsitter::frontend

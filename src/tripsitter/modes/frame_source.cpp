@@ -1,5 +1,6 @@
 #include <tripsitter/modes/frame_source.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -86,7 +87,7 @@ class NormalSource final : public FrameSource {
   Frame frame_;
 };
 
-// The window refines a still picture up to this many samples per pixel.
+// The window refines a still picture for this many frames after the camera stops.
 constexpr int kMaxProgressiveSamples = 1024;
 
 // path: the path tracer from the scene's camera, or from the host camera once it has been steered.
@@ -97,24 +98,39 @@ class PathSource final : public FrameSource {
         camera_settings_(scene.camera),
         camera_(initial_camera(scene.camera)),
         path_scene_(scene.spheres),
-        config_(c) {}
+        config_(c),
+        interactive_(path_scene_, path_settings(c), interactive_settings(c)) {}
 
   const host::Camera& camera() const override { return camera_; }
   host::Camera& steer() override {
     steered_ = true;
-    restart_ = true;
+    moved_ = true;
     return camera_;
   }
   void reset() override {
     camera_ = initial_camera(camera_settings_);
     steered_ = false;
-    restart_ = true;
+    moved_ = true;
+    interactive_.restart();
   }
 
   const Frame& draw() override { return config_.progressive ? refine() : trace(); }
   bool refining() const override { return config_.progressive && frame_.samples < kMaxProgressiveSamples; }
+  bool set_denoise(bool on) override {
+    config_.denoise = on;
+    interactive_.set_denoise(on);
+    return true;
+  }
+  bool denoise() const override { return config_.denoise; }
 
  private:
+  static render::InteractiveSettings interactive_settings(const SourceConfig& c) {
+    render::InteractiveSettings s;
+    s.denoise = c.denoise;
+    s.reuse = c.reuse;
+    s.row_step = c.row_step;
+    return s;
+  }
   render::ThinLensCamera lens() const {
     scene::CameraSettings c = camera_settings_;
     if (steered_) {
@@ -123,57 +139,105 @@ class PathSource final : public FrameSource {
     }
     return render::ThinLensCamera(c, config_.width, config_.height);
   }
-  // A whole picture at config.spp samples per pixel.
+  // A whole picture at config.spp samples per pixel, filtered with its own feature buffers when asked.
   const Frame& trace() {
     const render::PathSettings s = path_settings(config_);
-    const render::ImageRgbF image = config_.trace ? config_.trace(path_scene_, lens(), s, config_.on_samples)
-                                                  : render::render_path(path_scene_, lens(), s, config_.on_samples);
-    frame_.rgb = render::to_srgb8(image);
+    render::Aovs* aovs = config_.aovs || config_.denoise ? &aovs_ : nullptr;
+    if (aovs != nullptr) aovs_ = render::Aovs(s.width, s.height);
+    if (config_.denoise && s.spp >= 2) {
+      denoised_halves(s);
+    } else {
+      frame_.linear = trace_samples(s, aovs);
+      if (config_.denoise) {
+        // One sample per pixel says nothing of its own spread: the variance comes from the neighbours.
+        std::vector<float> variance(frame_.linear.pixels.size());
+        denoiser_.estimate_variance({.width = s.width, .height = s.height, .color = frame_.linear.pixels,
+                                     .variance = {}, .aovs = &aovs_},
+                                    render::DenoiseSettings{}.variance_radius, s.threads, variance);
+        denoise(s, variance);
+      }
+    }
+    frame_.rgb = render::to_srgb8(frame_.linear);
+    frame_.aovs = aovs;
     frame_.samples = s.spp;
+    frame_.mean_samples = s.spp;
     return frame_;
   }
 
-  // One more sample per pixel added to the sum, which starts over when the camera moved. Each row is added to
-  // the sum and encoded by the thread that traced it, while it is in cache.
-  const Frame& refine() {
-    const int w = config_.width, h = config_.height;
-    const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-    if (restart_ || frame_.samples == 0) {
-      sum_ = {w, h, std::vector<render::Vec3f>(pixels)};
-      frame_.samples = 0;
-      restart_ = false;
+  render::ImageRgbF trace_samples(const render::PathSettings& s, render::Aovs* aovs) {
+    return config_.trace ? config_.trace(path_scene_, lens(), s, config_.on_samples, aovs)
+                         : render::render_path(path_scene_, lens(), s, config_.on_samples, aovs);
+  }
+
+  // --denoise with two or more samples: the samples traced in two halves (the first and the second half of each
+  // pixel's sequence), whose difference gives each pixel's own variance, so that what the samples agree on
+  // (a sharp reflection, say) is kept, where a variance from the neighbours would count it as noise.
+  void denoised_halves(const render::PathSettings& s) {
+    render::PathSettings first = s, second = s;
+    first.spp = s.spp / 2;
+    second.spp = s.spp - first.spp;
+    second.first_sample = s.first_sample + static_cast<std::uint32_t>(first.spp);
+    render::Aovs other(s.width, s.height);
+    const render::ImageRgbF a = trace_samples(first, &aovs_);
+    const render::ImageRgbF b = trace_samples(second, &other);
+    const float wa = static_cast<float>(first.spp) / static_cast<float>(s.spp), wb = 1 - wa;
+    frame_.linear = {s.width, s.height, std::vector<render::Vec3f>(a.pixels.size())};
+    std::vector<float> variance(a.pixels.size());
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+      frame_.linear.pixels[i] = a.pixels[i] * wa + b.pixels[i] * wb;
+      // Two estimates of the mean, each of about half the samples: the variance of their mean is about
+      // (a - b)^2 / 4 (a noisy estimate of it, which the denoiser smooths before use).
+      const float d = render::luminance(a.pixels[i]) - render::luminance(b.pixels[i]);
+      variance[i] = d * d / 4;
+      aovs_.albedo[i] = aovs_.albedo[i] * wa + other.albedo[i] * wb;
+      aovs_.normal[i] = aovs_.normal[i] * wa + other.normal[i] * wb;
+      const float da = aovs_.depth[i], db = other.depth[i];
+      aovs_.depth[i] = std::isinf(da) ? db : std::isinf(db) ? da : da * wa + db * wb;
     }
-    if (pass_.pixels.size() != pixels) pass_ = sum_;
-    if (frame_.rgb.width != w || frame_.rgb.height != h) frame_.rgb = core::ImageRgb8(w, h);
-    render::PathSettings s = path_settings(config_);
-    s.spp = 1;
-    s.seed = config_.seed + static_cast<std::uint64_t>(frame_.samples);
-    ++frame_.samples;
-    const float scale = 1.0f / static_cast<float>(frame_.samples);
-    render::render_path_rows(path_scene_, lens(), s, 0, 1, pass_, [&](int row) {
-      const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(w);
-      for (std::size_t i = first; i < first + static_cast<std::size_t>(w); ++i) sum_.pixels[i] += pass_.pixels[i];
-      render::encode_srgb8(&sum_.pixels[first], static_cast<std::size_t>(w), scale, &frame_.rgb.pixels[3 * first]);
-    });
+    denoise(s, variance);
+  }
+
+  void denoise(const render::PathSettings& s, const std::vector<float>& variance) {
+    render::DenoiseSettings settings;
+    settings.threads = s.threads;
+    denoiser_.denoise({.width = s.width, .height = s.height, .color = frame_.linear.pixels, .variance = variance,
+                       .aovs = &aovs_},
+                      settings, frame_.linear.pixels);
+  }
+
+  // One more pass of the window's loop (render/interactive.h): samples reprojected while the camera moves,
+  // accumulated while it is still, and filtered.
+  const Frame& refine() {
+    frame_.linear = interactive_.frame(lens());
+    frame_.rgb = render::to_srgb8(frame_.linear);
+    frame_.aovs = &interactive_.aovs();
+    still_frames_ = moved_ ? 1 : std::min(still_frames_ + 1, kMaxProgressiveSamples);
+    moved_ = false;
+    frame_.samples = still_frames_;
+    frame_.mean_samples = interactive_.mean_samples();
     return frame_;
   }
 
   const scene::CameraSettings camera_settings_;
   host::Camera camera_;
   bool steered_ = false;  // the picture is seen from camera_, not from the scene's camera
-  bool restart_ = false;  // progressive: the camera moved since the last draw
+  bool moved_ = true;     // progressive: the camera moved since the last draw
+  int still_frames_ = 0;  // progressive: draws since the camera last moved
   const render::PathScene path_scene_;
   SourceConfig config_;
-  render::ImageRgbF sum_;   // progressive: the sum of the samples so far
-  render::ImageRgbF pass_;  // progressive: the draw's new sample per pixel
+  render::InteractivePath interactive_;  // progressive
+  render::Denoiser denoiser_;            // stills
+  render::Aovs aovs_;                    // stills
   Frame frame_;
 };
 
 }  // namespace
 
 render::PathSettings path_settings(const SourceConfig& c) {
-  return {.width = c.width, .height = c.height, .spp = c.spp, .max_depth = c.max_depth, .seed = c.seed,
-          .threads = c.threads, .sky = {}};
+  render::PathSettings s{.width = c.width, .height = c.height, .spp = c.spp, .max_depth = c.max_depth, .seed = c.seed,
+                         .threads = c.threads, .sky = {}};
+  s.sampler = c.sampler;
+  return s;
 }
 
 core::Result<bool, display::IoError> write_png(const std::string& path, const Frame& frame) {

@@ -25,15 +25,19 @@
 #include <tripsitter/link/spi.h>
 #include <tripsitter/link/wire.h>
 #include <tripsitter/modes/mode.h>
+#include <tripsitter/render/aov.h>
+#include <tripsitter/render/interactive.h>
 #include <tripsitter/render/path_tracer.h>
 #include <tripsitter/scene/scene.h>
 
 namespace tripsitter::modes {
 
 // How the path tracer makes one picture (render::render_path by default; MPI shares the rows among ranks).
+// It fills the feature buffers when given them.
 using PathTrace = std::function<render::ImageRgbF(const render::PathScene&, const render::ThinLensCamera&,
                                                   const render::PathSettings&,
-                                                  const std::function<void(std::uint64_t)>& on_samples)>;
+                                                  const std::function<void(std::uint64_t)>& on_samples,
+                                                  render::Aovs* aovs)>;
 
 // What a source needs; each mode reads its own fields.
 struct SourceConfig {
@@ -53,7 +57,12 @@ struct SourceConfig {
   int spp = 1;                         // samples per pixel of a picture
   int max_depth = 50;                  // bounces along one path
   std::uint64_t seed = 1;
-  bool progressive = false;            // each draw adds one sample per pixel while the camera is still (the window)
+  bool progressive = false;            // each draw adds a pass to the picture (the window: render/interactive.h)
+  render::SamplerKind sampler = render::SamplerKind::kSobol;
+  bool denoise = false;                // filter the picture (render/denoise.h); the window's default is on
+  bool aovs = false;                   // path stills: fill Frame::aovs (render --aov, EXR layers)
+  bool reuse = true;                   // progressive: reproject the history when the camera moves (else start over)
+  int row_step = 1;                    // progressive: paths on 1 row of every row_step per draw
   PathTrace trace;                     // empty: render::render_path on this process's threads
   std::function<void(std::uint64_t)> on_samples;  // progress: samples traced so far
 };
@@ -72,6 +81,11 @@ struct Frame {
   double link_seconds = 0;              // at the SPI clock
   std::size_t spheres_dropped = 0;      // beyond scene memory, never sent
   int samples = 0;                      // path, and hw with a path-tracing preset: samples per pixel in the picture
+                                        // (progressive path: frames since the camera last moved; see mean_samples)
+  double mean_samples = 0;              // progressive path: samples per pixel, mean over the picture, reprojected share included
+  // path: the picture in linear light (before the sRGB encoding of rgb) and its feature buffers
+  render::ImageRgbF linear;
+  const render::Aovs* aovs = nullptr;   // progressive: always; stills: with SourceConfig::aovs or denoise
   // hw: the device's memories as this frame left them, valid until the next draw() (null in the other modes):
   // scene memory, the world the frame shows in raw fixed point; and with a path-tracing preset frame memory,
   // each pixel's accumulated samples (null for the other presets). modes/device_compare.h reads them.
@@ -102,6 +116,9 @@ class FrameSource {
   // Whether another draw() would improve the picture although nothing moved (a progressive path source still
   // refining; the hw source with a path-tracing preset while the device's frame memory still accumulates).
   virtual bool refining() const { return false; }
+  // The denoiser of a path source (render/denoise.h): on or off; false where the mode has none.
+  virtual bool set_denoise(bool /*on*/) { return false; }
+  virtual bool denoise() const { return false; }
 
  protected:
   explicit FrameSource(Mode mode) : mode_(mode) {}

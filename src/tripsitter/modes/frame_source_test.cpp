@@ -104,10 +104,19 @@ TEST(FrameSource, ProgressivePathAddsASamplePerDrawUntilTheCameraMoves) {
   EXPECT_EQ(source->draw().samples, 1);
   EXPECT_EQ(source->draw().samples, 2);
   EXPECT_TRUE(source->refining());
-  // Two samples with seeds 1 and 2 averaged: the still of seed 1 and 2 spp differs (one seed, two samples), so
-  // compare with the sum the window shows instead: the second draw is not the first.
-  source->steer().look(5, 0);
-  EXPECT_EQ(source->draw().samples, 1);
+  // A move keeps the history that still shows the same surfaces (render/interactive.h): the count of still frames
+  // starts over, the picture's samples do not.
+  source->steer().look(1, 0);
+  const Frame& moved = source->draw();
+  EXPECT_EQ(moved.samples, 1);
+  EXPECT_GT(moved.mean_samples, 1.5);
+  // Without reuse a move starts the picture over.
+  c.reuse = false;
+  auto fresh = make_frame_source(scene, c);
+  fresh->draw();
+  fresh->draw();
+  fresh->steer().look(1, 0);
+  EXPECT_EQ(fresh->draw().mean_samples, 1.0);
 }
 
 TEST(FrameSource, AnimationFramesDoNotDependOnWhichFramesWereDrawn) {
