@@ -180,7 +180,8 @@ QualityFigure PathQuality::plain(int spp, render::SamplerKind sampler, const std
   c.spp = spp;
   c.sampler = sampler;
   const auto start = Clock::now();
-  const Frame& frame = make_frame_source(scene_, c)->draw();
+  const std::unique_ptr<FrameSource> source = make_frame_source(scene_, c);  // owns the frame
+  const Frame& frame = source->draw();
   QualityFigure f;
   f.seconds = seconds_since(start);
   f.frames = 1;

@@ -60,8 +60,8 @@ class PathQuality {
   // against that frame's reference.
   QualityFigure orbit(bool denoise, bool reuse, const std::string& name = "");
   // The path tracer alone (no window loop, no denoiser): one picture at `spp` samples per pixel.
-  QualityFigure plain(int spp, render::SamplerKind sampler, const std::string& name = "");
   // Pictures named `name` go to pictures_dir as name.png (when both are given).
+  QualityFigure plain(int spp, render::SamplerKind sampler, const std::string& name = "");
   // The largest orbit reference noise (each frame's reference has its own).
   double orbit_noise_relmse();
 

@@ -12,18 +12,33 @@ bool same_view(const ThinLensCamera::Pinhole& a, const ThinLensCamera::Pinhole& 
   return a.origin == b.origin && a.pixel00 == b.pixel00 && a.du == b.du && a.dv == b.dv;
 }
 
-// Where a direction `d` from the view's eye crosses its image: pixel coordinates, pixel centres at whole numbers.
-// False when d does not point into the half-space in front of the eye.
-bool project(const ThinLensCamera::Pinhole& view, const Vec3f& d, float& x, float& y) {
-  const Vec3f forward = core::cross(view.du, view.dv);  // du right, dv down: their cross product looks ahead
-  const float along = core::dot(d, forward);
-  if (!(along > 0)) return false;
-  const Vec3f to_plane = view.pixel00 - view.origin;
-  const Vec3f on_plane = view.origin + d * (core::dot(to_plane, forward) / along) - view.pixel00;
-  x = core::dot(on_plane, view.du) / core::dot(view.du, view.du);
-  y = core::dot(on_plane, view.dv) / core::dot(view.dv, view.dv);
-  return std::isfinite(x) && std::isfinite(y);
-}
+// Where directions from a view's eye cross its image, in pixel coordinates (pixel centres at whole numbers):
+// the view's terms computed once for every pixel that asks.
+class Projection {
+ public:
+  explicit Projection(const ThinLensCamera::Pinhole& view)
+      : forward_(core::cross(view.du, view.dv)),  // du right, dv down: their cross product looks ahead
+        plane_(core::dot(view.pixel00 - view.origin, forward_)),
+        corner_(view.origin - view.pixel00),
+        du_(view.du * (1.0f / core::dot(view.du, view.du))),
+        dv_(view.dv * (1.0f / core::dot(view.dv, view.dv))) {}
+
+  // False when d does not point into the half-space in front of the eye.
+  bool operator()(const Vec3f& d, float& x, float& y) const {
+    const float along = core::dot(d, forward_);
+    if (!(along > 0)) return false;
+    const Vec3f on_plane = d * (plane_ / along) + corner_;
+    x = core::dot(on_plane, du_);
+    y = core::dot(on_plane, dv_);
+    return std::isfinite(x) && std::isfinite(y);
+  }
+
+ private:
+  Vec3f forward_;
+  float plane_;   // the image plane's distance along forward_, times |forward_|
+  Vec3f corner_;  // from pixel 0's centre to the eye
+  Vec3f du_, dv_;  // du / |du|^2, dv / |dv|^2
+};
 
 }  // namespace
 
@@ -59,6 +74,8 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
     });
   } else {
     const ThinLensCamera::Pinhole before = view_;
+    const Projection project(before);
+    const float cosine2 = settings_.normal_cosine * settings_.normal_cosine;
     std::vector<std::size_t> carried(static_cast<std::size_t>(h));
     core::parallel_for(0, h, settings_.threads, [&](int row) {
       std::size_t row_carried = 0;
@@ -66,6 +83,7 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
         const std::size_t i = static_cast<std::size_t>(row) * static_cast<std::size_t>(w) + static_cast<std::size_t>(col);
         const Vec3f ray = core::normalize(view.pixel00 + view.du * static_cast<float>(col) +
                                           view.dv * static_cast<float>(row) - view.origin);
+        const float normal2 = core::dot(aovs.normal[i], aovs.normal[i]);
         const float depth = aovs.depth[i];
         const bool sky = std::isinf(depth);
         // The pixel's surface point, seen from the previous eye; a sky pixel keeps its direction.
@@ -75,7 +93,7 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
         Vec3f mean{};
         float square_mean = 0, samples = 0, weight = 0;
         float x, y;
-        if (project(before, from_before, x, y)) {
+        if (project(from_before, x, y)) {
           const float fx = std::floor(x), fy = std::floor(y);
           const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
           const float ax = x - fx, ay = y - fy;
@@ -88,9 +106,10 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
             if (sky != std::isinf(d)) continue;
             if (!sky) {
               if (std::fabs(d - expected) > settings_.depth_tolerance * expected) continue;
+              // cos >= normal_cosine, squared (both sides non-negative): no square root per tap.
               const Vec3f& m = normal_[j];
               const float dot = core::dot(m, normal);
-              if (!(dot >= settings_.normal_cosine * std::sqrt(core::dot(m, m) * core::dot(normal, normal)))) continue;
+              if (!(dot > 0 && dot * dot >= cosine2 * core::dot(m, m) * normal2)) continue;
             }
             const float tap = ((k & 1) ? ax : 1 - ax) * ((k >> 1) ? ay : 1 - ay);
             const float inv = tap / count_[j];
