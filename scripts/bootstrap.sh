@@ -18,6 +18,7 @@ packages=(g++ cmake make pkg-config libpng-dev nlohmann-json3-dev libcli11-dev l
           libopenexr-dev              # render --out FILE.exr (with Imath)
           libembree-dev               # optional: bench compares primary rays with Embree
           libopenmpi-dev openmpi-bin  # optional: render --mode path under mpirun
+          verilator yosys             # optional: the device's RTL (rtl/), simulated and synthesised
 )
 # the libFuzzer targets (scripts/fuzz.sh); the headless browser that looks at explore's report
 [ "$job" = test ] && packages+=(clang-14 libclang-rt-14-dev chromium)
