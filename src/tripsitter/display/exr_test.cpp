@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <tripsitter/display/exr.h>
+#include <tripsitter/display/test_util.h>
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -25,30 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Each test gets a fresh, empty directory, removed afterwards.
-class ExrTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    std::random_device rd;
-    std::string name = "tripsitter_exr_test_";
-    name += std::to_string(rd());
-    name += std::to_string(rd());
-    dir_ = fs::temp_directory_path() / name;
-    ASSERT_TRUE(fs::create_directory(dir_)) << dir_;
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::vector<std::string> dir_entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-
-  fs::path dir_;
-};
+class ExrTest : public testing::TempDirTest {};
 
 std::uint32_t bits(float v) { return std::bit_cast<std::uint32_t>(v); }
 

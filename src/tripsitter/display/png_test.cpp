@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <png.h>
 #include <tripsitter/display/png.h>
+#include <tripsitter/display/test_util.h>
 
 #include <cmath>
 #include <cstdint>
@@ -18,26 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Each test gets a fresh, empty directory, removed afterwards.
-class PngTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    std::random_device rd;
-    dir_ = fs::temp_directory_path() / ("tripsitter_png_test_" + std::to_string(rd()) + std::to_string(rd()));
-    ASSERT_TRUE(fs::create_directory(dir_)) << dir_;
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::vector<std::string> dir_entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
-    return names;
-  }
-
-  fs::path dir_;
-};
+class PngTest : public testing::TempDirTest {};
 
 core::Image444 random_image(int w, int h, std::uint32_t seed) {
   std::mt19937 rng(seed);

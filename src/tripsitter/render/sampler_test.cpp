@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <tripsitter/render/material.h>
+#include <tripsitter/render/test_util.h>
 
 namespace tripsitter::render {
 namespace {
@@ -226,32 +227,9 @@ TEST(CosSinTurns, MatchesTheLibraryWithinTwoTenMillionths) {
   }
 }
 
-// Counts of values in [0, 1) in equal bins, with Pearson's statistic and the bound of Histogram in
-// path_tracer_test.cpp (mean plus six standard deviations).
-class Histogram {
- public:
-  explicit Histogram(int bins) : counts_(static_cast<std::size_t>(bins), 0) {}
-  void add(double x) {
-    ++counts_[std::min(static_cast<std::size_t>(x * static_cast<double>(counts_.size())), counts_.size() - 1)];
-  }
-  bool uniform() const {
-    double total = 0;
-    for (const double c : counts_) total += c;
-    const double expected = total / static_cast<double>(counts_.size());
-    double chi2 = 0;
-    for (const double c : counts_) chi2 += (c - expected) * (c - expected) / expected;
-    const double dof = static_cast<double>(counts_.size() - 1);
-    return chi2 < dof + 6 * std::sqrt(2 * dof);
-  }
-
- private:
-  std::vector<double> counts_;
-};
-
-double turn(double x, double y) {
-  const double t = std::atan2(y, x) / (2 * std::numbers::pi) + 0.5;
-  return t < 1.0 ? t : 0.0;
-}
+using testing::below_one;
+using testing::Histogram;
+using testing::turn;
 
 constexpr int kSamples = 200000;
 
@@ -265,23 +243,23 @@ TEST(SquareSample, MapsTheSquareUniformlyOntoSphereAndDisk) {
     const SquareSample p = SquareSample::at(rng.uniform(), rng.uniform());
     const Vec3f v = p.unit_vector();
     ASSERT_NEAR(core::dot(v, v), 1.0f, 1e-6f);
-    z.add(0.5 * (v.z + 1.0));
+    z.add(below_one(0.5 * (v.z + 1.0)));
     angle.add(turn(v.x, v.y));
-    x_axis.add(0.5 * (v.x + 1.0));
+    x_axis.add(below_one(0.5 * (v.x + 1.0)));
     for (int a = 0; a < 3; ++a) m2[a] += v[a] * v[a];
     xy += v.x * v.y;
     const Vec3f d = p.in_unit_disk();
     const double d2 = static_cast<double>(d.x) * d.x + static_cast<double>(d.y) * d.y;
     ASSERT_LT(d2, 1.0 + 1e-6);
     ASSERT_EQ(d.z, 0.0f);
-    r2.add(d2);
+    r2.add(below_one(d2));
     disk_angle.add(turn(d.x, d.y));
   }
-  EXPECT_TRUE(z.uniform());
-  EXPECT_TRUE(angle.uniform());
-  EXPECT_TRUE(x_axis.uniform());
-  EXPECT_TRUE(r2.uniform());
-  EXPECT_TRUE(disk_angle.uniform());
+  EXPECT_LT(z.chi_square(), z.bound());
+  EXPECT_LT(angle.chi_square(), angle.bound());
+  EXPECT_LT(x_axis.chi_square(), x_axis.bound());
+  EXPECT_LT(r2.chi_square(), r2.bound());
+  EXPECT_LT(disk_angle.chi_square(), disk_angle.bound());
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(m2[a] / kSamples, 1.0 / 3.0, 0.004) << a;
   EXPECT_NEAR(xy / kSamples, 0.0, 0.004);
 }
@@ -313,8 +291,8 @@ TEST(SquareSample, ScatterFromSobolPointsHasTheRightDistributions) {
     const Vec3f g = scatter(glass, in, s, p).dir;
     reflected += core::dot(g, n) > 0;
   }
-  EXPECT_TRUE(cos2.uniform());
-  EXPECT_TRUE(angle.uniform());
+  EXPECT_LT(cos2.chi_square(), cos2.bound());
+  EXPECT_LT(angle.chi_square(), angle.bound());
   const float cos_theta = -core::dot(in, n);
   const double p_reflect = schlick(cos_theta, 1 / 1.5f);
   // Stratified points: far closer than the binomial standard deviation, sqrt(p (1 - p) / n) = 0.0005.
