@@ -79,20 +79,6 @@ module ts_sphere_test #(
 );
   localparam int RTW = (SQW + 1) / 2 + 1;  // the square root's bits
 
-  // The camera's ray of pixel (col, row), as DW-bit components.
-  // (With DW = 10 the top bit of v is dropped: -320..319 fit 10 bits.)
-  function automatic logic signed [DW-1:0] cam_dx(input logic [9:0] pixel_col);
-    /* verilator lint_off UNUSEDSIGNAL */
-    logic signed [10:0] v;
-    /* verilator lint_on UNUSEDSIGNAL */
-    v = $signed({1'b0, pixel_col}) - 11'sd320;
-    cam_dx = DW'(v);
-  endfunction
-  function automatic logic signed [DW-1:0] cam_dy(input logic [8:0] pixel_row);
-    logic signed [9:0] v;
-    v = $signed({1'b0, pixel_row}) - 10'sd240;
-    cam_dy = DW'(v);
-  endfunction
   localparam logic signed [DW-1:0] CamDz = DW'(320);
 
   // ---- S1: oc = c - o; the camera ray's squares -----------------------------------------------------
@@ -156,8 +142,10 @@ module ts_sphere_test #(
   logic [18:0]              s2_a_cam;
 
   logic signed [DW-1:0] s1_d[3];
-  assign s1_d[0] = s1_refl ? refl_dx : cam_dx(s1_col);
-  assign s1_d[1] = s1_refl ? refl_dy : cam_dy(s1_row);
+  logic signed [DW-1:0] s1_cam_dx, s1_cam_dy;
+  ts_pixel_ray #(.DW(DW)) s1_camera (.col(s1_col), .row(s1_row), .dx(s1_cam_dx), .dy(s1_cam_dy));
+  assign s1_d[0] = s1_refl ? refl_dx : s1_cam_dx;
+  assign s1_d[1] = s1_refl ? refl_dy : s1_cam_dy;
   assign s1_d[2] = s1_refl ? refl_dz : CamDz;
 
   always_ff @(posedge clk) begin

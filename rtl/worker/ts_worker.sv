@@ -136,19 +136,6 @@ module ts_worker #(
 
   localparam logic [11:0] Background = 12'h036;
 
-  function automatic logic signed [DW-1:0] cam_dx(input logic [9:0] c);
-    /* verilator lint_off UNUSEDSIGNAL */  // DW = 10 drops the top bit: -320..319 fit
-    logic signed [10:0] v;
-    /* verilator lint_on UNUSEDSIGNAL */
-    v = $signed({1'b0, c}) - 11'sd320;
-    cam_dx = DW'(v);
-  endfunction
-  function automatic logic signed [DW-1:0] cam_dy(input logic [8:0] r);
-    logic signed [9:0] v;
-    v = $signed({1'b0, r}) - 10'sd240;
-    cam_dy = DW'(v);
-  endfunction
-
   // ---- issue: the pair's tag (S0); the sphere's fields arrive with it in the next cycle -------------------
   logic              issue;        // a pair is issued this cycle
   logic [AW:0]       issue_j;      // its sphere
@@ -347,8 +334,10 @@ module ts_worker #(
   // The pass's ray: the camera's, or the reflected one it was traced along.
   logic signed [DW-1:0] pe_d[3];
   logic [AAW-1:0]       pe_a;
-  assign pe_d[0] = pe_refl ? ray_d[0] : cam_dx(pe_col);
-  assign pe_d[1] = pe_refl ? ray_d[1] : cam_dy(pe_row);
+  logic signed [DW-1:0] pe_cam_dx, pe_cam_dy;
+  ts_pixel_ray #(.DW(DW)) pe_camera (.col(pe_col), .row(pe_row), .dx(pe_cam_dx), .dy(pe_cam_dy));
+  assign pe_d[0] = pe_refl ? ray_d[0] : pe_cam_dx;
+  assign pe_d[1] = pe_refl ? ray_d[1] : pe_cam_dy;
   assign pe_d[2] = pe_refl ? ray_d[2] : DW'(320);
   assign pe_a = pe_refl ? ray_a : AAW'(pe_a_cam);
 
