@@ -157,18 +157,7 @@ std::vector<std::uint8_t> random_frame(const DevicePreset& p, link::WireVersion 
                                       static_cast<std::uint8_t>(200 + rng() % 56)};
     }
   }
-  link::World world;
-  world.session = 7;
-  world.sequence = sequence;
-  world.frac_bits = static_cast<std::uint8_t>(p.frac_bits());
-  for (std::size_t i = 0; i < scene.geometry.size(); ++i) {
-    const auto& g = scene.geometry[i];
-    const SurfaceWord& s = scene.surfaces[i];
-    world.spheres.push_back({static_cast<std::int32_t>(g.center.x), static_cast<std::int32_t>(g.center.y),
-                             static_cast<std::int32_t>(g.center.z), static_cast<std::uint32_t>(g.radius), s.material,
-                             s.albedo, s.fuzz, s.ior});
-  }
-  return link::encode_frame(wire, world);
+  return testing::frame_of_scene(p, sequence, scene, wire, 7);
 }
 
 // Worlds one after another to the model and the RTL; each world's first frame compared sample by sample.

@@ -180,10 +180,14 @@ inline std::vector<std::uint8_t> path_frame_of(const DevicePreset& preset, std::
   return link::encode_frame(link::WireVersion::kV2, w);
 }
 
-// The v2 frame that puts exactly `scene` (raw geometry and surface words, one surface per sphere) into scene memory.
+// The frame (v2 unless `wire` says otherwise; v3 in host session `session`) that puts exactly `scene` (raw geometry
+// and surface words, one surface per sphere) into scene memory.
 inline std::vector<std::uint8_t> frame_of_scene(const DevicePreset& preset, std::uint32_t sequence,
-                                                const SceneMemory& scene) {
+                                                const SceneMemory& scene,
+                                                link::WireVersion wire = link::WireVersion::kV2,
+                                                std::uint32_t session = 0) {
   link::World w;
+  w.session = session;
   w.sequence = sequence;
   w.frac_bits = static_cast<std::uint8_t>(preset.frac_bits());
   for (std::size_t i = 0; i < scene.geometry.size(); ++i) {
@@ -193,7 +197,7 @@ inline std::vector<std::uint8_t> frame_of_scene(const DevicePreset& preset, std:
                          static_cast<std::int32_t>(g.center.z), static_cast<std::uint32_t>(g.radius), s.material,
                          s.albedo, s.fuzz, s.ior});
   }
-  return link::encode_frame(link::WireVersion::kV2, w);
+  return link::encode_frame(wire, w);
 }
 
 // A random surface of any material: albedos anywhere in 0..255 (often 255, the exact 1), metals with and
