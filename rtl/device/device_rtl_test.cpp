@@ -1,6 +1,7 @@
 // The whole device as RTL (ts_device: receiver, scene memory, N workers, controller, line buffers, VGA timing) against
-// the C++ device model (device::Device), pin for pin: the same link bytes go to both, the RTL's through its SPI
-// pins (mode 0, most significant bit first, SCLK a tenth of the clock, as the link's default 10 MHz), and every
+// the C++ device model (device::Device), pin for pin, through the back-end that `--device rtl` selects
+// (rtl_device.h): the same link bytes go to both, the RTL's through its SPI pins (mode 0, most significant bit
+// first, SCLK a tenth of the clock, as the link's default 10 MHz), and every
 // sample of a whole frame (hsync_n, vsync_n and the 12-bit colour of all 800 x 525 pixel clocks) is compared, with
 // the frame's late pixels. The first differing sample is printed with both values.
 //
@@ -8,6 +9,9 @@
 // starts with; the RTL shifts the bits in, checks the frame and writes scene memory, and shows the world from the
 // first vertical blanking after that. The frame compared is the first one of the world on each side.
 #include <array>
+#include <fstream>
+#include <iostream>
+#include <iterator>
 #include <cstdint>
 #include <memory>
 #include <random>
@@ -16,12 +20,10 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <verilated.h>
 
-#include "Vts_device_board.h"
-#include "Vts_device_board_1.h"
-#include "Vts_device_wide.h"
-#include "Vts_device_wide_7.h"
+#include "Vts_device_board_1_planted.h"
+#include "rtl_device.h"
+#include "verilated_device.h"
 
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/preset.h>
@@ -31,88 +33,22 @@
 namespace tripsitter::device {
 namespace {
 
-constexpr int kHalfBit = 5;  // device clocks per SCLK half period: 10 MHz against 100 MHz
 constexpr int kFrameSamples = kVga640x480.h_total() * kVga640x480.v_total();
 
-// A frame as the connector carries it, one sample per pixel clock from the start of vertical blanking.
-struct Capture {
+// The RTL back-end for `preset` on `wire`, failing the test if this program has no such build.
+std::unique_ptr<Backend> rtl_device(const DevicePreset& preset, link::WireVersion wire) {
+  auto made = rtl::make_rtl_device(preset, wire);
+  if (!made) ADD_FAILURE() << made.error();
+  return made ? std::move(made).value() : nullptr;
+}
+
+// A whole frame as the connector carries it, one sample per pixel clock from the start of vertical blanking.
+std::vector<VgaSample> frame_samples(Backend& device, FrameStats& stats) {
   std::vector<VgaSample> samples;
-  int late_pixels = 0;
-};
-
-template <class Model>
-class Rig {
- public:
-  Rig() : ctx_(std::make_unique<VerilatedContext>()) {
-    ctx_->randReset(2);  // random power-up state: the reset must make it irrelevant
-    top_ = std::make_unique<Model>(ctx_.get());
-    top_->clk = 0;
-    top_->rst = 1;
-    top_->spi_cs_n = 1;
-    top_->spi_sclk = 0;
-    top_->spi_mosi = 0;
-    for (int i = 0; i < 4; ++i) tick();
-    top_->rst = 0;
-  }
-  Rig(const Rig&) = delete;
-  Rig& operator=(const Rig&) = delete;
-  ~Rig() { top_->final(); }
-
-  // One SPI transfer from the pins, then clocks until the receiver has taken every byte and is idle.
-  void transfer(const std::vector<std::uint8_t>& bytes) {
-    top_->spi_cs_n = 0;
-    ticks(kHalfBit);
-    for (const std::uint8_t byte : bytes) {
-      for (int bit = 7; bit >= 0; --bit) {
-        top_->spi_mosi = (byte >> bit) & 1;  // changes while SCLK is low, sampled on its rising edge
-        ticks(kHalfBit);
-        top_->spi_sclk = 1;
-        ticks(kHalfBit);
-        top_->spi_sclk = 0;
-      }
-    }
-    ticks(kHalfBit);
-    top_->spi_cs_n = 1;
-    for (int i = 0; i < 4'000'000 && !top_->receiver_idle; ++i) tick();
-  }
-  std::uint64_t accepted() const { return top_->worlds_accepted; }
-
-  // Runs to the next start of vertical blanking (where a waiting world is swapped in), then captures the frame
-  // that starts there: one sample per vga_strobe, the first being line 480's column 0.
-  Capture frame() {
-    while (!(top_->beam_line == 480 && top_->beam_column == 0)) tick();
-    Capture c;
-    c.samples.reserve(kFrameSamples);
-    while (static_cast<int>(c.samples.size()) < kFrameSamples) {
-      tick();
-      if (top_->late_valid) c.late_pixels += top_->late_pixels;
-      if (top_->vga_strobe) {
-        VgaSample s;
-        s.hsync_n = top_->vga_hsync_n != 0;
-        s.vsync_n = top_->vga_vsync_n != 0;
-        s.colour = core::Rgb444::from_channels(top_->vga_r, top_->vga_g, top_->vga_b);
-        c.samples.push_back(s);
-      }
-    }
-    // Leave the beam past the frame's start, so that the next frame() waits for the next one.
-    while (top_->beam_line == 480 && top_->beam_column == 0) tick();
-    return c;
-  }
-
- private:
-  void tick() {
-    top_->clk = 1;
-    top_->eval();
-    top_->clk = 0;
-    top_->eval();
-  }
-  void ticks(int n) {
-    for (int i = 0; i < n; ++i) tick();
-  }
-
-  std::unique_ptr<VerilatedContext> ctx_;
-  std::unique_ptr<Model> top_;
-};
+  samples.reserve(kFrameSamples);
+  stats = device.run_frame_lines([&](std::span<const VgaSample> line) { samples.insert(samples.end(), line.begin(), line.end()); });
+  return samples;
+}
 
 std::string describe(const VgaSample& s) {
   std::ostringstream o;
@@ -144,6 +80,12 @@ std::vector<std::uint8_t> random_frame(const DevicePreset& p, link::WireVersion 
     s.albedo = {static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng())};
     s.ior = 6144;  // 1.5: every sphere on the wire carries an index of refraction, used or not
   }
+  // A tie: a sphere twice, with another surface, so that the closest-hit rule decides which one every pixel shows.
+  if (!scene.geometry.empty() && scene.geometry.size() < p.max_spheres) {
+    scene.geometry.push_back(scene.geometry.front());
+    scene.surfaces.push_back(scene.surfaces.front());
+    scene.surfaces.back().albedo = {9, 200, 77};
+  }
   if (p.max_bounces > 0) {
     // Three metal spheres in view that see each other, so that pixels reflect up to the cut-off.
     const std::int64_t unit = std::int64_t{1} << p.frac_bits();
@@ -160,57 +102,191 @@ std::vector<std::uint8_t> random_frame(const DevicePreset& p, link::WireVersion 
   return testing::frame_of_scene(p, sequence, scene, wire, 7);
 }
 
-// Worlds one after another to the model and the RTL; each world's first frame compared sample by sample.
-// Returns the reflections the model's frames traced (the mirror model's worlds should have some).
-template <class Model>
+// Worlds one after another to the model and the RTL; each world's first frame compared sample by sample, with the
+// frame's statistics and the receiver's counters. Returns the reflections the model's frames traced (the mirror
+// model's worlds should have some).
 std::uint64_t compare_worlds(const DevicePreset& preset, link::WireVersion wire, int worlds, std::uint64_t seed) {
   std::uint64_t reflections = 0;
   std::mt19937_64 rng(seed);
   Device model(preset, wire, 1, DeviceModel::kPlain);
-  Rig<Model> rtl;
+  const std::unique_ptr<Backend> rtl = rtl_device(preset, wire);
+  if (!rtl) return 0;
   for (int w = 1; w <= worlds; ++w) {
     const std::vector<std::uint8_t> bytes = random_frame(preset, wire, static_cast<std::uint32_t>(w), rng);
     model.transfer(bytes);
-    rtl.transfer(bytes);
-    EXPECT_EQ(rtl.accepted(), model.receiver_stats().worlds_accepted) << "world " << w;
-    if (rtl.accepted() != model.receiver_stats().worlds_accepted) return reflections;
-    std::vector<VgaSample> expected;
-    expected.reserve(kFrameSamples);
-    const FrameStats stats = model.run_frame([&](const VgaSample& s) { expected.push_back(s); });
+    rtl->transfer(bytes);
+    EXPECT_EQ(rtl->receiver_stats().worlds_accepted, model.receiver_stats().worlds_accepted) << "world " << w;
+    if (rtl->receiver_stats().worlds_accepted != model.receiver_stats().worlds_accepted) return reflections;
+    EXPECT_EQ(rtl->ready(), model.ready()) << "world " << w;
+    FrameStats stats;
+    const std::vector<VgaSample> expected = frame_samples(model, stats);
     // Both must show this world: a world refused by both would compare a background against a background.
     EXPECT_TRUE(stats.has_world && stats.sequence == static_cast<std::uint32_t>(w)) << "world " << w << " not shown";
     EXPECT_EQ(model.receiver_stats().frames_rejected, 0u) << model.receiver_stats().last_error;
-    const Capture got = rtl.frame();
-    const std::string diff = first_difference(expected, got.samples);
+    FrameStats got;
+    const std::vector<VgaSample> samples = frame_samples(*rtl, got);
+    const std::string diff = first_difference(expected, samples);
     EXPECT_TRUE(diff.empty()) << preset.name << ", " << preset.workers << " workers, world " << w << " ("
                               << model.scene().geometry.size() << " spheres): " << diff;
     EXPECT_EQ(got.late_pixels, stats.late_pixels) << "world " << w;
+    EXPECT_EQ(got.late_lines, stats.late_lines) << "world " << w;
+    EXPECT_EQ(got.has_world, stats.has_world) << "world " << w;
+    EXPECT_EQ(got.sequence, stats.sequence) << "world " << w;
+    EXPECT_EQ(rtl->has_world(), model.has_world());
     if (!diff.empty()) return reflections;
     reflections += stats.reflections;
   }
   return reflections;
 }
 
-// A simulated frame of the board-2023 top with ten workers takes about 4 s here, of the wide top with ten pipelined
-// workers about 30 s (each world costs two: the one it arrives in and the one compared): few worlds per test.
+// A simulated frame of the board-2023 top with ten workers takes 4 to 7 s here, with one worker about 0.6 s, of the
+// wide top with ten pipelined workers 25 to 30 s (each world costs two frames: the one it arrives in and the one
+// compared): many worlds with one worker, few with more.
 TEST(DeviceRtl, Board2023TenWorkersV2) {
-  compare_worlds<Vts_device_board>(board_2023_preset(), link::WireVersion::kV2, 3, 1);
+  compare_worlds(board_2023_preset(), link::WireVersion::kV2, 3, 1);
 }
 
 TEST(DeviceRtl, Board2023OneWorker) {
   DevicePreset p = board_2023_preset();
   p.workers = 1;
-  compare_worlds<Vts_device_board_1>(p, link::WireVersion::kV2, 2, 2);
+  compare_worlds(p, link::WireVersion::kV2, 12, 2);
 }
 
 TEST(DeviceRtl, WideTenWorkersV3) {
-  EXPECT_GT(compare_worlds<Vts_device_wide>(wide_preset(), link::WireVersion::kV3, 1, 3), 0u);
+  EXPECT_GT(compare_worlds(wide_preset(), link::WireVersion::kV3, 1, 3), 0u);
 }
 
 TEST(DeviceRtl, WideSevenWorkers) {
   DevicePreset p = wide_preset();
   p.workers = 7;
-  EXPECT_GT(compare_worlds<Vts_device_wide_7>(p, link::WireVersion::kV3, 1, 4), 0u);
+  EXPECT_GT(compare_worlds(p, link::WireVersion::kV3, 1, 4), 0u);
+}
+
+}  // namespace
+}  // namespace tripsitter::device
+
+namespace tripsitter::device {
+namespace {
+
+// A link that damages: after each piece the RTL's receiver counters (ReceiverStats but its last_error text) and ready
+// line equal the model's, and the world both finally show is the same one.
+void expect_same_receiver(const Backend& rtl, const Device& model, const std::string& after) {
+  const ReceiverStats& r = rtl.receiver_stats();
+  const ReceiverStats& m = model.receiver_stats();
+  EXPECT_EQ(r.worlds_accepted, m.worlds_accepted) << after;
+  EXPECT_EQ(r.worlds_replaced, m.worlds_replaced) << after;
+  EXPECT_EQ(r.frames_rejected, m.frames_rejected) << after;
+  EXPECT_EQ(r.garbage_runs, m.garbage_runs) << after;
+  EXPECT_EQ(r.bytes_dropped, m.bytes_dropped) << after;
+  EXPECT_EQ(r.worlds_missing, m.worlds_missing) << after;
+  EXPECT_EQ(r.worlds_replayed, m.worlds_replayed) << after;
+  EXPECT_EQ(r.sessions, m.sessions) << after;
+  EXPECT_EQ(rtl.ready(), model.ready()) << after;
+}
+
+TEST(DeviceRtl, DamagedLinkAtThePins) {
+  DevicePreset p = board_2023_preset();
+  p.workers = 1;
+  for (const link::WireVersion wire : {link::WireVersion::kV2}) {
+    Device model(p, wire, 1, DeviceModel::kPlain);
+    const std::unique_ptr<Backend> rtl = rtl_device(p, wire);
+    ASSERT_TRUE(rtl);
+    std::mt19937_64 rng(11);
+    const auto world = [&](std::uint32_t sequence) { return random_frame(p, wire, sequence, rng); };
+    std::vector<std::uint8_t> flipped = world(1);
+    flipped[flipped.size() / 2] ^= 0x10;               // the CRC fails
+    std::vector<std::uint8_t> cut = world(2);
+    cut.resize(cut.size() * 2 / 3);                    // cut short, then a whole frame: the cut one is rejected
+    const std::vector<std::uint8_t> garbage = {0x00, 0x13, 0x37, 0xff, 0x42};
+    std::vector<std::vector<std::uint8_t>> pieces = {flipped, cut, world(3), garbage, world(5), world(5)};
+    int n = 0;
+    for (const std::vector<std::uint8_t>& piece : pieces) {
+      model.transfer(piece);
+      rtl->transfer(piece);
+      expect_same_receiver(*rtl, model, "piece " + std::to_string(n++));
+    }
+    model.end_of_stream();
+    rtl->end_of_stream();
+    expect_same_receiver(*rtl, model, "the end of the stream");
+    EXPECT_GT(model.receiver_stats().frames_rejected, 0u);
+    EXPECT_GT(model.receiver_stats().worlds_missing, 0u);
+    FrameStats m;
+    FrameStats r;
+    const std::string diff = first_difference(frame_samples(model, m), frame_samples(*rtl, r));
+    EXPECT_TRUE(diff.empty()) << diff;
+    EXPECT_EQ(r.sequence, m.sequence);
+    EXPECT_TRUE(m.has_world);
+  }
+}
+
+// The equivalence catches a planted bug: the square-root unit's comparison flipped (TS_PLANT_SQRT_BUG) in an otherwise
+// equal build of the one-worker board.
+TEST(DeviceRtl, PlantedSqrtBugDiffers) {
+  DevicePreset p = board_2023_preset();
+  p.workers = 1;
+  Device model(p, link::WireVersion::kV2, 1, DeviceModel::kPlain);
+  rtl::RtlDevice<Vts_device_board_1_planted> planted(5, {}, "");
+  std::mt19937_64 rng(2);
+  const std::vector<std::uint8_t> bytes = random_frame(p, link::WireVersion::kV2, 1, rng);
+  model.transfer(bytes);
+  planted.transfer(bytes);
+  FrameStats m;
+  FrameStats r;
+  const std::vector<VgaSample> expected = frame_samples(model, m);
+  ASSERT_TRUE(m.has_world);
+  const std::string diff = first_difference(expected, frame_samples(planted, r));
+  EXPECT_FALSE(diff.empty()) << "the planted bug went unseen";
+  std::cout << "the planted bug: " << diff << "\n";
+}
+
+// Only the builds there are: another worker count, wire or preset, or an SCLK the device cannot sample, is refused
+// with a reason.
+TEST(DeviceRtl, RefusesWhatIsNotBuilt) {
+  DevicePreset p = wide_preset();
+  p.workers = 3;
+  const auto three = rtl::make_rtl_device(p, link::WireVersion::kV3);
+  ASSERT_FALSE(three);
+  EXPECT_NE(three.error().find("not for wide with 3 workers on wire v3"), std::string::npos) << three.error();
+  EXPECT_NE(three.error().find(rtl::rtl_builds()), std::string::npos) << three.error();
+  EXPECT_FALSE(rtl::make_rtl_device(board_2023_preset(), link::WireVersion::kV3));
+  EXPECT_FALSE(rtl::make_rtl_device(path_preset(), link::WireVersion::kV2));
+  rtl::RtlOptions fast;
+  fast.spi_hz = rtl::kMaxSpiHz + 1;
+  EXPECT_FALSE(rtl::make_rtl_device(board_2023_preset(), link::WireVersion::kV2, fast));
+  rtl::RtlOptions no_worker;
+  no_worker.vcd = ::testing::TempDir() + "rtl_refused.vcd";
+  no_worker.vcd_worker = 10;
+  EXPECT_FALSE(rtl::make_rtl_device(board_2023_preset(), link::WireVersion::kV2, no_worker));
+  EXPECT_TRUE(rtl::make_rtl_device(board_2023_preset(), link::WireVersion::kV2));
+}
+
+// The VCD: the top's pins always, one worker's inner signals only when asked, for the lines asked.
+TEST(DeviceRtl, VcdOfPinsAndOneWorker) {
+  DevicePreset p = board_2023_preset();
+  for (const int worker : {-1, 4}) {
+    rtl::RtlOptions o;
+    o.vcd = ::testing::TempDir() + "rtl_device_" + std::to_string(worker + 1) + ".vcd";
+    o.vcd_worker = worker;
+    o.vcd_lines = 2;
+    auto made = rtl::make_rtl_device(p, link::WireVersion::kV2, o);
+    ASSERT_TRUE(made) << made.error();
+    FrameStats stats;
+    frame_samples(*made.value(), stats);
+    std::ifstream in(o.vcd);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find(" spi_sclk "), std::string::npos);
+    EXPECT_NE(text.find(" vga_hsync_n "), std::string::npos);
+    // The scopes of the trace: the top, and with a worker that worker's (Verilator names the generate block).
+    const bool has_worker = text.find("$scope module g_worker[4] $end") != std::string::npos;
+    EXPECT_EQ(has_worker, worker == 4) << text.substr(0, 2000);
+    EXPECT_EQ(text.find("$scope module g_worker[3] $end"), std::string::npos);
+    // Every clock from reset to two lines into the frame: at least the clocks to the frame's start.
+    const std::size_t last_time = text.rfind("\n#");
+    ASSERT_NE(last_time, std::string::npos);
+    const std::uint64_t ns = std::stoull(text.substr(last_time + 2));
+    EXPECT_GE(ns, 2u * 800u * 4u * 10u);
+    EXPECT_LT(ns, 50u * 800u * 4u * 10u);
+  }
 }
 
 }  // namespace

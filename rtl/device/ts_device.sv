@@ -4,7 +4,8 @@
 //
 // Pins of a board (docs/rtl.md, "To a real board"): clk (100 MHz), rst (synchronous, active high), spi_sclk,
 // spi_mosi, spi_cs_n from the host and spi_ready back to it; vga_r, vga_g, vga_b (4 bits each, to the resistor
-// ladders) and vga_hsync_n, vga_vsync_n. The other outputs are for simulation and a logic analyser.
+// ladders) and vga_hsync_n, vga_vsync_n. The other outputs, and end_of_stream (tied low on a board), are for
+// simulation and a logic analyser.
 //
 // Data flow: the receiver writes a checked world into scene memory's back copy; ts_scanout pulses frame_start in the
 // first cycle of vertical blanking, where a waiting world becomes the front copy (the model's swap_if_pending at
@@ -39,18 +40,27 @@ module ts_device #(
     input  logic             spi_mosi,
     input  logic             spi_cs_n,
     output logic             spi_ready,
+    input  logic             end_of_stream,       // simulation: the stream transport's host went away (a board ties it low)
     output logic [3:0]       vga_r,
     output logic [3:0]       vga_g,
     output logic [3:0]       vga_b,
     output logic             vga_hsync_n,
     output logic             vga_vsync_n,
-    // For simulation: the first cycle of each pixel clock's sample on the pins, the beam, the receiver's state.
+    // For simulation: the first cycle of each pixel clock's sample on the pins, the beam, the receiver's state and
+    // counters (device::ReceiverStats), the world in scene memory's front copy.
     output logic             vga_strobe,
     output logic [9:0]       beam_line,
     output logic [9:0]       beam_column,
     output logic             receiver_idle,
     output logic [CNT_W-1:0] worlds_accepted,
+    output logic [CNT_W-1:0] worlds_replaced,
     output logic [CNT_W-1:0] frames_rejected,
+    output logic [CNT_W-1:0] garbage_runs,
+    output logic [CNT_W-1:0] bytes_dropped,
+    output logic [CNT_W-1:0] worlds_missing,
+    output logic [CNT_W-1:0] worlds_replayed,
+    output logic [CNT_W-1:0] sessions,
+    output logic             shown_valid,
     output logic [31:0]      shown_sequence,
     output logic             late_valid,
     output logic [9:0]       late_pixels
@@ -71,8 +81,7 @@ module ts_device #(
   logic [N*R_W-1:0]  rd_r;
   logic [N-1:0]      rd_metal;
   logic [N*24-1:0]   rd_albedo;
-  logic [CNT_W-1:0]  unused_replaced, unused_garbage, unused_dropped, unused_missing, unused_replayed;
-  logic [CNT_W-1:0]  unused_sessions, unused_received, unused_overflow;
+  logic [CNT_W-1:0]  unused_received, unused_overflow;
   logic              unused_cut;
 
   ts_receiver_top #(
@@ -81,11 +90,10 @@ module ts_device #(
   ) receiver (
       .clk, .rst,
       .sclk(spi_sclk), .mosi(spi_mosi), .cs_n(spi_cs_n), .ready(spi_ready),
-      .end_of_stream(1'b0),  // a board's host never goes away; the stream transport's end is the model's
+      .end_of_stream,
       .vblank_swap(frame_start),
-      .worlds_accepted, .worlds_replaced(unused_replaced), .frames_rejected, .garbage_runs(unused_garbage),
-      .bytes_dropped(unused_dropped), .worlds_missing(unused_missing), .worlds_replayed(unused_replayed),
-      .sessions(unused_sessions), .bytes_received(unused_received), .overflow_bytes(unused_overflow),
+      .worlds_accepted, .worlds_replaced, .frames_rejected, .garbage_runs, .bytes_dropped, .worlds_missing,
+      .worlds_replayed, .sessions, .bytes_received(unused_received), .overflow_bytes(unused_overflow),
       .idle(receiver_idle), .spi_byte_cut(unused_cut),
       .front_valid, .front_count, .front_sequence(shown_sequence),
       .rd_addr, .rd_x, .rd_y, .rd_z, .rd_r, .rd_metal, .rd_albedo
@@ -94,6 +102,7 @@ module ts_device #(
   // ---- Workers ---------------------------------------------------------------------------------------------
   // Without a world every pixel is background: the workers see no spheres.
   wire [AW:0] spheres = front_valid ? front_count : '0;
+  assign shown_valid = front_valid;
 
   logic [N-1:0]    start, ready, done;
   logic [N*10-1:0] col, done_col;

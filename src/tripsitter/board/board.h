@@ -4,8 +4,10 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 
 #include <tripsitter/core/image.h>
+#include <tripsitter/device/backend.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/display/monitor.h>
@@ -25,6 +27,9 @@ struct BoardConfig {
   // The host's session on v3 (link/sequence.h): a board runs one host from power-on, so a fixed number keeps
   // its link bytes the same from run to run.
   std::uint32_t session = 1;
+  // The device back-end in place of the C++ model (the Verilated RTL: rtl/device/rtl_device.h), made for `preset`
+  // and `wire`; empty: device::Device with device_threads and device_model.
+  std::function<std::unique_ptr<device::Backend>()> make_device{};
 };
 
 // What one shown frame cost and reported.
@@ -45,7 +50,7 @@ class Board {
 
   host::Host& host() { return host_; }
   const host::Host& host() const { return host_; }
-  device::Device& device() { return device_; }
+  device::Backend& device() { return *device_; }
   const link::SpiLink& link() const { return link_; }
 
   // The host rebuilds its world from the current camera and sends it when the device is ready; the device
@@ -57,7 +62,7 @@ class Board {
   BoardConfig config_;
   host::Host host_;
   link::SpiLink link_;
-  device::Device device_;
+  std::unique_ptr<device::Backend> device_;
   display::VgaMonitor monitor_;
 };
 

@@ -140,12 +140,12 @@ TEST(Board, ReflectedPixelsStayCloseToTheFloatReference) {
   for (const auto& s : scenes) {
     Board b(s, {});
     b.show();
-    const device::DevicePreset& p = b.device().preset();
+    const device::DevicePreset p = BoardConfig{}.preset;
     const core::Image444 ref = render::render_normal(b.host().view(), 640, 480, p.max_bounces);
     const device::Worker w(p);
     for (int row = 0; row < 480; ++row)
       for (int col = 0; col < 640; ++col) {
-        const core::PixelTrace t = w.trace(col, row, b.device().scene());
+        const core::PixelTrace t = w.trace(col, row, *b.device().scene_memory());
         const core::Rgb444 q = ref.at(col, row);
         const int m = std::max({std::abs(t.colour.r() - q.r()), std::abs(t.colour.g() - q.g()),
                                 std::abs(t.colour.b() - q.b())});

@@ -4,7 +4,7 @@
 
 namespace tripsitter::board {
 
-CapturedFrame capture_frame(device::Device& device, display::VgaMonitor& monitor,
+CapturedFrame capture_frame(device::Backend& device, display::VgaMonitor& monitor,
                             const std::function<void(const device::VgaSample&)>& probe) {
   CapturedFrame captured;
   captured.stats = device.run_frame_lines([&](std::span<const device::VgaSample> line) {

@@ -6,6 +6,7 @@
 #include <functional>
 
 #include <tripsitter/core/image.h>
+#include <tripsitter/device/backend.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/display/monitor.h>
 
@@ -16,10 +17,10 @@ struct CapturedFrame {
   core::Image444 image;      // as the monitor captured it
 };
 
-// One frame from the start of vertical blanking to the end of the last visible line, every sample into the
-// monitor and, when given, into `probe` (a VCD trace). REQUIRES the device at the start of vertical blanking
-// (as after reset or an earlier capture) and the monitor locked to it or fresh.
-CapturedFrame capture_frame(device::Device& device, display::VgaMonitor& monitor,
+// One frame from a start of vertical blanking to the end of the last visible line (Backend::run_frame_lines), every
+// sample into the monitor and, when given, into `probe` (a VCD trace). REQUIRES the monitor locked to the device
+// or fresh.
+CapturedFrame capture_frame(device::Backend& device, display::VgaMonitor& monitor,
                             const std::function<void(const device::VgaSample&)>& probe = {});
 
 }  // namespace tripsitter::board

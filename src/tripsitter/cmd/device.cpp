@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "device_choice.h"
 #include "device_loop.h"
 
 namespace tripsitter::cmd {
@@ -29,6 +30,7 @@ struct DeviceOptions {
   std::uint64_t frames = 0;
   int scale = 1;
   double host_timeout_s = std::chrono::duration<double>(transport::StreamPort::kDefaultStallTimeout).count();
+  DeviceChoice device;
 };
 
 // The monitor as a window. The keyboard belongs to the host program; here Esc or closing the window stops
@@ -111,7 +113,9 @@ int run_device(const DeviceOptions& o) {
       throw InputError("--out-dir " + o.out_dir + ": cannot create the directory" + (ec ? ": " + ec.message() : ""));
   }
 
-  device::Device dev(preset, wire);
+  const auto make_rtl = device_maker(o.device, preset, wire);
+  const std::unique_ptr<device::Backend> device = make_rtl ? make_rtl() : std::make_unique<device::Device>(preset, wire);
+  device::Backend& dev = *device;
   auto port = transport::StreamPort::listen(address.value(), [&dev](const transport::StreamPortEvent& e) {
     using Kind = transport::StreamPortEvent::Kind;
     switch (e.kind) {
@@ -120,7 +124,7 @@ int run_device(const DeviceOptions& o) {
         break;
       case Kind::kDisconnected:
         std::cerr << "device: host " << e.peer << " went away (" << e.detail << ") after " << e.bytes << " bytes; "
-                  << (dev.scene().valid || !dev.ready() ? "the last good world stays on screen" : "no world yet")
+                  << (dev.has_world() || !dev.ready() ? "the last good world stays on screen" : "no world yet")
                   << "; receiver so far: ";
         print_receiver(dev.receiver_stats());
         std::cerr << "\n";
@@ -201,6 +205,7 @@ void add_device_command(CLI::App& app, Action& run) {
   cmd->add_option("--preset", o->preset, "Device preset (" + join(device::preset_names()) + ")")->capture_default_str();
   cmd->add_option("--workers", o->workers, "Number of device workers, 1..640 (default: the preset's)")
       ->check(CLI::Range(1, 640));
+  add_device_option(*cmd, o->device);
   cmd->add_option("--spp", o->spp,
                   "--preset path: samples per pixel added to frame memory each frame, 1..255 (default 1; a pixel "
                   "stops at 255)")

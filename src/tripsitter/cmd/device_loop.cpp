@@ -27,7 +27,7 @@ bool PngFrameSink::show(const core::Image444& image, const FrameInfo& info) {
   return true;
 }
 
-DeviceLoopResult run_device_loop(device::Device& device, transport::StreamPort& port, FrameSink& sink,
+DeviceLoopResult run_device_loop(device::Backend& device, transport::StreamPort& port, FrameSink& sink,
                                  const DeviceLoopConfig& config, const volatile std::sig_atomic_t& stop) {
   using Clock = transport::StreamClock;
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(config.frame_seconds));

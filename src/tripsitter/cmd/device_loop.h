@@ -9,6 +9,7 @@
 #include <string>
 
 #include <tripsitter/core/image.h>
+#include <tripsitter/device/backend.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/link/stream_protocol.h>
 #include <tripsitter/transport/stream.h>
@@ -51,7 +52,7 @@ class PngFrameSink : public FrameSink {
 // The device as its stream port sees it.
 class DeviceStreamEndpoint : public link::StreamEndpoint {
  public:
-  explicit DeviceStreamEndpoint(device::Device& device) : device_(device) {}
+  explicit DeviceStreamEndpoint(device::Backend& device) : device_(device) {}
   bool ready() const override { return device_.ready(); }
   void transfer(std::span<const std::uint8_t> bytes) override { device_.transfer(bytes); }
   void end_of_stream() override { device_.end_of_stream(); }
@@ -62,7 +63,7 @@ class DeviceStreamEndpoint : public link::StreamEndpoint {
   }
 
  private:
-  device::Device& device_;
+  device::Backend& device_;
 };
 
 // The VGA frame period: 800 x 525 pixel clocks at 25 MHz, 16.8 ms (59.52 frames/s).
@@ -85,7 +86,7 @@ struct DeviceLoopResult {
 // capture goes to the sink, and only then may the port send the credit that tells the host its world
 // was taken; so a host that has seen its last world taken knows the sink already has a frame of it.
 // Between frames the loop sleeps until the next frame is due, serving the port meanwhile.
-DeviceLoopResult run_device_loop(device::Device& device, transport::StreamPort& port, FrameSink& sink,
+DeviceLoopResult run_device_loop(device::Backend& device, transport::StreamPort& port, FrameSink& sink,
                                  const DeviceLoopConfig& config, const volatile std::sig_atomic_t& stop);
 
 }  // namespace tripsitter::cmd

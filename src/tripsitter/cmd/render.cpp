@@ -61,16 +61,29 @@ void check_pattern(const std::string& pattern) {
     throw InputError("--out " + pattern + ": with --frames it needs exactly one %d (or %04d) for the frame number");
 }
 
+// --device with the RTL's settings from render's options: the SPI clock, the VCD and its lines.
+DeviceChoice rtl_choice(const RenderOptions& o) {
+  DeviceChoice c = o.device;
+  c.spi_hz = o.spi_hz;
+  c.vcd = o.vcd;
+  c.vcd_lines = o.lines;
+  return c;
+}
+
 // The --vcd file, opened before rendering so that a bad path fails before any work; null without --vcd.
+// With --device rtl the RTL writes its own (rtl_device.h): null here too.
 std::unique_ptr<display::VcdFile> open_vcd(const RenderOptions& o) {
-  if (o.vcd.empty()) return nullptr;
+  if (o.vcd.empty() || wants_rtl(o.device)) return nullptr;
   auto file = display::VcdFile::open(o.vcd, static_cast<std::uint64_t>(o.lines) * device::kVga640x480.h_total());
   if (!file) throw InputError(file.error().message);
   return std::move(file).value();
 }
 
 void keep(display::VcdFile* vcd, const std::string& path) {
-  if (vcd == nullptr) return;
+  if (vcd == nullptr) {
+    if (!path.empty()) std::cerr << "wrote " << path << " (the RTL's pins and outputs at every clock)\n";
+    return;
+  }
   auto kept = vcd->keep();
   if (!kept) throw InputError(kept.error().message);
   std::cerr << "wrote " << path << " (" << kept.value() << " pixel clocks)\n";
@@ -207,7 +220,12 @@ int run_animation(const RenderOptions& o, modes::Mode mode, const scene::Scene& 
 int run_device_alone(const RenderOptions& o) {
   const std::vector<std::uint8_t> bytes = read_bytes(o.link_input);
   const std::unique_ptr<display::VcdFile> vcd = open_vcd(o);
-  device::Device dev(load_preset(o.preset, o.workers, o.bounces), parse_wire(o.wire));
+  const device::DevicePreset preset = load_preset(o.preset, o.workers, o.bounces);
+  const link::WireVersion wire = parse_wire(o.wire);
+  const auto make_rtl = device_maker(rtl_choice(o), preset, wire);
+  const std::unique_ptr<device::Backend> device =
+      make_rtl ? make_rtl() : std::make_unique<device::Device>(preset, wire);
+  device::Backend& dev = *device;
   display::VgaMonitor monitor;
   const std::span<const std::uint8_t> all(bytes);
   for (std::size_t at = 0; at < all.size(); at += o.transfer_bytes)
@@ -266,10 +284,15 @@ int run_render(const RenderOptions& o) {
   const std::unique_ptr<modes::FrameSource> source = modes::make_frame_source(scene, config);
   // --accumulate N: the still world N times; a path-tracing device adds each frame's samples to frame memory.
   const int frames = std::max(1, o.accumulate);
+  const auto started = std::chrono::steady_clock::now();
   const modes::Frame* shown = &source->draw();
   for (int i = 1; i < frames; ++i) shown = &source->draw();
   const modes::Frame& frame = *shown;
   if (mode == modes::Mode::kHw) report(frame, frames, config.preset);
+  if (config.make_device)
+    std::cerr << "device (RTL): simulated in "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()
+              << " s, the world's transfer and the frames to its first one included\n";
   if (o.compare && path_traced(config.preset, config.wire)) {
     compare_path(o, config, frame, frames);
   } else if (o.compare) {
@@ -313,6 +336,9 @@ void check_options(const RenderOptions& o, modes::Mode mode) {
     throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal or path");
   if (mode != Mode::kHw && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float renderers have no VGA signal)");
   if (mode != Mode::kHw && !o.link_input.empty()) throw InputError("--link-input needs --mode hw");
+  if (wants_rtl(o.device) && mode != Mode::kHw) throw InputError("--device rtl needs --mode hw (the RTL is the device)");
+  if (o.device.vcd_worker >= 0 && (!wants_rtl(o.device) || o.vcd.empty()))
+    throw InputError("--vcd-worker adds a worker's signals to the RTL's VCD: it needs --device rtl and --vcd FILE");
   if (o.compare && (mode != Mode::kHw || !o.link_input.empty()))
     throw InputError("--compare needs --mode hw with a scene (it renders the same world in float)");
   if (o.frames == 0 && (o.orbit != 0 || !o.video.empty())) throw InputError("--orbit and --video need --frames N");
@@ -359,6 +385,7 @@ modes::SourceConfig source_config(const RenderOptions& o, modes::Mode mode, cons
                          mode == modes::Mode::kHw ? o.depth : 0);
   c.wire = parse_wire(o.wire);
   c.spi = {o.transfer_bytes, o.spi_hz};
+  if (mode == modes::Mode::kHw) c.make_device = device_maker(rtl_choice(o), c.preset, c.wire);
   const bool monitor = mode == modes::Mode::kHw;
   c.width = monitor ? core::kScreenWidth : (o.width != 0 ? o.width : scene.render.width);
   c.height = monitor ? core::kScreenHeight : (o.height != 0 ? o.height : scene.render.height);
@@ -471,16 +498,24 @@ void add_render_command(CLI::App& app, Action& run) {
                   "Output file: PNG, or with --mode path FILE.exr (OpenEXR: linear RGB, with the feature buffers as "
                   "layers albedo.R/G/B, normal.X/Y/Z and Z)")
       ->capture_default_str();
-  cmd->add_option("--vcd", o->vcd, "Also dump the VGA signal (hsync, vsync, r, g, b) as a VCD file (hw only)");
+  add_device_option(*cmd, o->device);
+  cmd->add_option("--vcd", o->vcd,
+                  "Also dump the VGA signal (hsync, vsync, r, g, b) as a VCD file (hw only); with --device rtl, the "
+                  "RTL's pins and simulation outputs at every clock, from reset to --lines lines into the frame drawn");
+  cmd->add_option("--vcd-worker", o->device.vcd_worker,
+                  "With --device rtl and --vcd: also every signal inside this worker (0 to workers - 1)")
+      ->check(CLI::Range(0, 639));
   cmd->add_option("--lines", o->lines, "Lines of signal in the VCD, counted from the device's reset at the start of "
-                                       "vertical blanking (line 480); 525 is one whole frame")
+                                       "vertical blanking (line 480); 525 is one whole frame. With --device rtl, "
+                                       "counted from the start of the frame drawn")
       ->capture_default_str()->check(CLI::Range(1, 525 * 4));
   cmd->add_option("--link-input", o->link_input,
                   "Feed the device raw link bytes from this file ('-' for stdin) instead of a scene; with v1, each 8 "
                   "bytes are one word, most significant byte first");
   cmd->add_option("--transfer-bytes", o->transfer_bytes, "Largest SPI transfer in bytes")
       ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
-  cmd->add_option("--spi-hz", o->spi_hz, "SPI clock in Hz, for the link time report")
+  cmd->add_option("--spi-hz", o->spi_hz, "SPI clock in Hz, for the link time report; with --device rtl, SCLK on the "
+                                         "RTL's pins (at most 10 MHz)")
       ->capture_default_str()->check(CLI::Range(std::int64_t{1}, std::int64_t{1'000'000'000'000}));
   cmd->add_option("--spp", o->spp,
                   "--mode path: samples per pixel (default: the scene's render.spp);\n"

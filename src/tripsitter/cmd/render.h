@@ -12,6 +12,7 @@
 #include <tripsitter/scene/scene.h>
 
 #include "common.h"
+#include "device_choice.h"
 
 namespace tripsitter::cmd {
 
@@ -31,6 +32,7 @@ struct RenderOptions {
   std::size_t transfer_bytes = link::SpiConfig{}.max_transfer_bytes;
   std::int64_t spi_hz = link::SpiConfig{}.clock_hz;
   bool compare = false;
+  DeviceChoice device;     // hw: the C++ model or the RTL (its SPI clock, VCD and lines are set from the options here)
   bool json = false;       // --compare's figures as one JSON object on stdout
   int reference_spp = 0;   // --compare with a path-tracing preset: the float reference's samples (0: the default)
   int accumulate = 0;      // hw with a path-tracing preset: frames of the still world (0: one)

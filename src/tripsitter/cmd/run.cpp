@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "device_choice.h"
 
 namespace tripsitter::cmd {
 namespace {
@@ -29,6 +30,7 @@ struct RunCommandOptions {
   bool denoise = true;
   bool reuse = true;
   int row_step = 1;
+  DeviceChoice device;
 };
 
 int run_run(const RunCommandOptions& o) {
@@ -43,7 +45,9 @@ int run_run(const RunCommandOptions& o) {
                      "--spp sets the device's samples per frame with --mode hw --preset path");
   if (c.mode != modes::Mode::kPath && (!o.denoise || !o.reuse || o.row_step != 1))
     throw InputError("--no-denoise, --no-reuse and --row-step need --mode path");
+  if (wants_rtl(o.device) && !hw) throw InputError("--device rtl needs --mode hw (the RTL is the device)");
   c.preset = load_preset(o.preset, o.workers, -1, hw ? o.spp : 0, hw ? o.depth : 0);
+  if (hw) c.make_device = device_maker(o.device, c.preset, c.wire);
   if (!hw) c.max_depth = o.depth;
   c.scene = load_scene(o.scene);
   c.screenshot_dir = o.screenshot_dir;
@@ -92,6 +96,7 @@ void add_run_command(CLI::App& app, Action& run) {
       ->check(CLI::Range(1, scene::kMaxDepth));
   cmd->add_option("--workers", o->workers, "Number of device workers (default: the preset's)")->check(CLI::Range(1, 640));
   cmd->add_option("--wire", o->wire, "Link protocol, v1, v2 or v3")->capture_default_str();
+  add_device_option(*cmd, o->device);
   cmd->add_option("--scale", o->scale, "Window size as a multiple of 640x480")->capture_default_str()->check(CLI::Range(1, 8));
   cmd->add_option("--screenshot-dir", o->screenshot_dir, "Where F12 writes tripsitter-N.png")->capture_default_str();
   cmd->add_option("--seed", o->seed, "path: random seed")->capture_default_str();

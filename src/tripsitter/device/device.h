@@ -16,6 +16,7 @@
 #include <vector>
 
 #include <tripsitter/core/rgb444.h>
+#include <tripsitter/device/backend.h>
 #include <tripsitter/device/controller.h>
 #include <tripsitter/device/frame_lines.h>
 #include <tripsitter/device/frame_memory.h>
@@ -54,7 +55,7 @@ enum class DeviceModel {
   kFast,   // the fast model (FastTracer), a frame's lines computed ahead of the beam (FrameLines)
 };
 
-class Device : public link::Endpoint {
+class Device final : public Backend {
  public:
   // REQUIRES preset.validate() is empty. The model only changes how fast the device runs, never what it
   // shows. kFast computes a frame's lines ahead of the beam from vertical blanking on, on `threads`
@@ -62,10 +63,10 @@ class Device : public link::Endpoint {
   // kPlain ignores `threads`.
   Device(const DevicePreset& preset, link::WireVersion wire, int threads = 0, DeviceModel model = DeviceModel::kFast);
 
-  // link::Endpoint: the ready line and one SPI transfer.
+  // Backend: the ready line, one SPI transfer (taken at once), the host's end.
   bool ready() const override { return receiver_.ready(); }
   void transfer(std::span<const std::uint8_t> bytes) override { receiver_.receive(bytes); }
-  void end_of_stream() { receiver_.end_of_stream(); }
+  void end_of_stream() override { receiver_.end_of_stream(); }
 
   // One pixel clock: what the VGA connector carries during it.
   VgaSample tick();
@@ -74,17 +75,19 @@ class Device : public link::Endpoint {
   // REQUIRES the device to be at the start of vertical blanking (as after reset or run_frame).
   FrameStats run_frame(const std::function<void(const VgaSample&)>& sink);
   // The same frame a line at a time: `line_sink` gets each line's h_total samples, in order.
-  FrameStats run_frame_lines(const std::function<void(std::span<const VgaSample>)>& line_sink);
+  FrameStats run_frame_lines(const std::function<void(std::span<const VgaSample>)>& line_sink) override;
 
   // Statistics of the frame being drawn since the last vertical blanking.
   const FrameStats& current_frame() const { return building_; }
   std::uint64_t total_late_pixels() const { return total_late_pixels_; }
   std::uint64_t total_late_lines() const { return total_late_lines_; }
-  const ReceiverStats& receiver_stats() const { return receiver_.stats(); }
+  const ReceiverStats& receiver_stats() const override { return receiver_.stats(); }
+  bool has_world() const override { return scene_.valid; }
   const DevicePreset& preset() const { return preset_; }
   const SceneMemory& scene() const { return scene_; }
+  const SceneMemory* scene_memory() const override { return &scene_; }
   // The path preset's frame memory as the last frame left it (null for other presets).
-  const FrameMemory* frame_memory() const { return memory_.get(); }
+  const FrameMemory* frame_memory() const override { return memory_.get(); }
 
  private:
   void start_line(int line);

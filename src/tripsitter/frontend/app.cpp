@@ -19,6 +19,7 @@ App::App(AppConfig config) : config_(std::move(config)) {
   c.mode = config_.mode;
   c.preset = config_.preset;
   c.wire = config_.wire;
+  c.make_device = config_.make_device;
   c.width = kWidth;
   c.height = kHeight;
   c.threads = config_.threads;

@@ -6,11 +6,13 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include <tripsitter/core/image.h>
+#include <tripsitter/device/backend.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/host/controls.h>
 #include <tripsitter/link/wire.h>
@@ -26,6 +28,7 @@ struct AppConfig {
   Mode mode = Mode::kHw;
   device::DevicePreset preset = device::wide_preset();
   link::WireVersion wire = link::WireVersion::kV3;
+  std::function<std::unique_ptr<device::Backend>()> make_device{};  // hw: the RTL in place of the model (BoardConfig)
   std::string screenshot_dir = ".";
   std::uint64_t seed = 1;      // path mode
   int max_depth = 0;           // path mode: bounces along one path (0: the scene's render.max_depth)

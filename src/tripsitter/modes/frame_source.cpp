@@ -15,12 +15,22 @@ namespace {
 
 host::Camera initial_camera(const scene::CameraSettings& c) { return host::Camera(c.lookfrom, c.lookat, c.vup); }
 
+board::BoardConfig board_config(const SourceConfig& c) {
+  board::BoardConfig b;
+  b.preset = c.preset;
+  b.wire = c.wire;
+  b.spi = c.spi;
+  b.device_threads = c.device_threads;
+  b.make_device = c.make_device;
+  return b;
+}
+
 // hw: every frame travels host -> link -> device -> VGA signal -> monitor.
 class HwSource final : public FrameSource {
  public:
   HwSource(const scene::Scene& scene, const SourceConfig& c)
       : FrameSource(Mode::kHw),
-        board_(scene, {c.preset, c.wire, c.spi, c.device_threads}),
+        board_(scene, board_config(c)),
         probe_(c.probe),
         accumulates_(c.preset.path.has_value() && c.wire != link::WireVersion::kV1),
         spp_(c.preset.path ? c.preset.path->spp : 0) {}
@@ -38,7 +48,7 @@ class HwSource final : public FrameSource {
     frame_.link_seconds = shown.link_seconds;
     frame_.spheres_dropped = shown.spheres_dropped;
     frame_.samples = shown.device.samples_per_pixel;
-    frame_.scene_memory = &board_.device().scene();
+    frame_.scene_memory = board_.device().scene_memory();
     frame_.frame_memory = board_.device().frame_memory();
     return frame_;
   }

@@ -17,6 +17,7 @@
 
 #include <tripsitter/core/image.h>
 #include <tripsitter/core/result.h>
+#include <tripsitter/device/backend.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/display/io.h>
@@ -48,6 +49,7 @@ struct SourceConfig {
   link::WireVersion wire = link::WireVersion::kV3;
   link::SpiConfig spi;                 // hw
   int device_threads = 0;              // hw: threads the device model computes a frame's lines on (0: all)
+  std::function<std::unique_ptr<device::Backend>()> make_device{};  // hw: the RTL in place of the model (BoardConfig)
   std::function<void(const device::VgaSample&)> probe;  // hw: sees every VGA sample (a VCD trace)
   // normal and path (hw is always the monitor's 640x480)
   int width = 640;
