@@ -15,13 +15,14 @@ Result render(const std::string& args, const fs::path& dir, const std::string& l
   return run_shell(kBin + " render " + args, dir / log);
 }
 
-// The demo world through host, link, the RTL's pins and the monitor: the same PNG file as the model's, byte for byte.
+// A world through host, link, the RTL's pins (SCLK at its fastest, 12.5 MHz) and the monitor: the same PNG file as the
+// model's, byte for byte.
 TEST(RtlCli, RenderDrawsWhatTheModelDraws) {
   const fs::path dir = scratch_dir("rtl_cli_");
   const std::string board = "--scene cluster --preset board-2023 --wire v2 --workers 1 --out ";
   const Result model = render(board + (dir / "model.png").string(), dir, "model");
   ASSERT_EQ(model.exit_code, 0) << model.err;
-  const Result rtl = render("--device rtl " + board + (dir / "rtl.png").string(), dir, "rtl");
+  const Result rtl = render("--device rtl --spi-hz 12500000 " + board + (dir / "rtl.png").string(), dir, "rtl");
   ASSERT_EQ(rtl.exit_code, 0) << rtl.err;
   EXPECT_NE(rtl.err.find("device (RTL): simulated in"), std::string::npos) << rtl.err;
   EXPECT_EQ(slurp(dir / "model.png"), slurp(dir / "rtl.png"));

@@ -79,7 +79,7 @@ core::Result<std::unique_ptr<device::Backend>, std::string> make_rtl_device(cons
            workers(preset.workers) + " on wire " + wire_name(wire);
   if (options.spi_hz < 1 || options.spi_hz > kMaxSpiHz)
     return "the RTL's SPI clock must be 1 Hz to " + std::to_string(kMaxSpiHz) +
-           " Hz (the device samples SCLK with its 100 MHz clock, at least 5 clocks a half period), not " +
+           " Hz (the device samples SCLK with its 100 MHz clock, at least 4 clocks a half period), not " +
            std::to_string(options.spi_hz);
   if (options.vcd_lines < 1) return std::string("the VCD needs at least one line");
   if (options.vcd_worker >= preset.workers)

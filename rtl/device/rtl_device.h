@@ -34,8 +34,9 @@ struct RtlOptions {
   int vcd_lines = 525;
 };
 
-// SCLK is sampled by the device's clock through a two-flop synchroniser: each half period lasts at least 5 clocks.
-inline constexpr std::int64_t kMaxSpiHz = kClockHz / 10;
+// SCLK is sampled by the device's clock through a two-flop synchroniser: each half period lasts at least 4 clocks
+// (receiver_rtl_test runs the receiver there, and at 5).
+inline constexpr std::int64_t kMaxSpiHz = kClockHz / 8;
 
 // The builds in this program, for people: "board-2023 with 10 or 1 workers on wire v2, ...".
 std::string rtl_builds();

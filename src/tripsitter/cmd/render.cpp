@@ -515,7 +515,7 @@ void add_render_command(CLI::App& app, Action& run) {
   cmd->add_option("--transfer-bytes", o->transfer_bytes, "Largest SPI transfer in bytes")
       ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
   cmd->add_option("--spi-hz", o->spi_hz, "SPI clock in Hz, for the link time report; with --device rtl, SCLK on the "
-                                         "RTL's pins (at most 10 MHz)")
+                                         "RTL's pins (at most 12.5 MHz)")
       ->capture_default_str()->check(CLI::Range(std::int64_t{1}, std::int64_t{1'000'000'000'000}));
   cmd->add_option("--spp", o->spp,
                   "--mode path: samples per pixel (default: the scene's render.spp);\n"
