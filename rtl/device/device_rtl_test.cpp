@@ -162,6 +162,18 @@ TEST(DeviceRtl, WideSevenWorkers) {
   EXPECT_GT(compare_worlds(p, link::WireVersion::kV3, 1, 4), 0u);
 }
 
+TEST(DeviceRtl, WideOneWorker) {
+  DevicePreset p = wide_preset();
+  p.workers = 1;
+  EXPECT_GT(compare_worlds(p, link::WireVersion::kV3, 3, 5), 0u);
+}
+
+TEST(DeviceRtl, Board2023SevenWorkers) {
+  DevicePreset p = board_2023_preset();
+  p.workers = 7;
+  compare_worlds(p, link::WireVersion::kV2, 2, 6);
+}
+
 }  // namespace
 }  // namespace tripsitter::device
 

@@ -10,7 +10,9 @@
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 #include "Vts_device_board.h"
 #include "Vts_device_board_1.h"
+#include "Vts_device_board_7.h"
 #include "Vts_device_wide.h"
+#include "Vts_device_wide_1.h"
 #include "Vts_device_wide_7.h"
 #pragma GCC diagnostic pop
 
@@ -32,9 +34,11 @@ device::DevicePreset with_workers(device::DevicePreset p, int workers) {
 const std::vector<Build>& builds() {
   static const std::vector<Build> all = {
       {with_workers(device::board_2023_preset(), 10), link::WireVersion::kV2},
+      {with_workers(device::board_2023_preset(), 7), link::WireVersion::kV2},
       {with_workers(device::board_2023_preset(), 1), link::WireVersion::kV2},
       {with_workers(device::wide_preset(), 10), link::WireVersion::kV3},
       {with_workers(device::wide_preset(), 7), link::WireVersion::kV3},
+      {with_workers(device::wide_preset(), 1), link::WireVersion::kV3},
   };
   return all;
 }
@@ -90,11 +94,17 @@ core::Result<std::unique_ptr<device::Backend>, std::string> make_rtl_device(cons
   const int half_bit = static_cast<int>((kClockHz + 2 * options.spi_hz - 1) / (2 * options.spi_hz));  // rounded up
   const std::string worker =
       options.vcd_worker < 0 ? "" : "TOP.ts_device.g_worker[" + std::to_string(options.vcd_worker) + "].worker";
+  // In the order of builds().
+  const auto make = [&]<class Top>() -> std::unique_ptr<device::Backend> {
+    return std::make_unique<RtlDevice<Top>>(half_bit, options, worker);
+  };
   switch (which) {
-    case 0: return std::unique_ptr<device::Backend>(std::make_unique<RtlDevice<Vts_device_board>>(half_bit, options, worker));
-    case 1: return std::unique_ptr<device::Backend>(std::make_unique<RtlDevice<Vts_device_board_1>>(half_bit, options, worker));
-    case 2: return std::unique_ptr<device::Backend>(std::make_unique<RtlDevice<Vts_device_wide>>(half_bit, options, worker));
-    default: return std::unique_ptr<device::Backend>(std::make_unique<RtlDevice<Vts_device_wide_7>>(half_bit, options, worker));
+    case 0: return make.operator()<Vts_device_board>();
+    case 1: return make.operator()<Vts_device_board_7>();
+    case 2: return make.operator()<Vts_device_board_1>();
+    case 3: return make.operator()<Vts_device_wide>();
+    case 4: return make.operator()<Vts_device_wide_7>();
+    default: return make.operator()<Vts_device_wide_1>();
   }
 }
 
