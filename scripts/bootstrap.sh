@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Set-up on a fresh Debian machine: installs what is missing, builds, and runs one job.
 #   scripts/bootstrap.sh demo   build (release) and render the demo scene through the whole board model
-#   scripts/bootstrap.sh test   build and run the whole test suite: release, then under the address+undefined
-#                               sanitizers, then under the thread sanitizer; then the libFuzzer targets
+#   scripts/bootstrap.sh test   build and run the whole test suite in release, then under the address+undefined
+#                               sanitizers; then the test executables that start threads under the thread sanitizer
+#                               (the tsan preset, CMakePresets.json); then the libFuzzer targets
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -13,8 +13,14 @@
 #include <tripsitter/core/sphere_kernel.h>
 #include <tripsitter/link/frame.h>
 
+#include "test_util.h"
+
 namespace tripsitter::device {
 namespace {
+
+using testing::kLambertian;
+using testing::kMetal;
+using testing::with_bounces;
 
 SceneMemory one_sphere(const DevicePreset& p) {
   SceneMemory m;
@@ -75,14 +81,6 @@ void add_sphere(SceneMemory& m, const DevicePreset& p, double x, double y, doubl
   m.valid = true;
   m.geometry.push_back({{p.x.quantize(x).raw, p.y.quantize(y).raw, p.z.quantize(z).raw}, p.radius.quantize(r).raw});
   m.surfaces.push_back({material, albedo, 0, 6144});
-}
-
-constexpr std::uint8_t kLambertian = link::kMaterialLambertian;
-constexpr std::uint8_t kMetal = link::kMaterialMetal;
-
-DevicePreset with_bounces(DevicePreset p, int bounces) {
-  p.max_bounces = bounces;
-  return p;
 }
 
 TEST(Mirror, TheCentreOfAMetalSphereReflectsTheBackgroundTinted) {

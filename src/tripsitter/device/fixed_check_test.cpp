@@ -20,11 +20,7 @@ namespace {
 using core::Int128;
 using testing::random_world;
 using testing::wide_32_preset;
-
-DevicePreset with_bounces(DevicePreset p, int bounces) {
-  p.max_bounces = bounces;
-  return p;
-}
+using testing::with_bounces;
 
 // Worlds at the formats' limits: a giant around the camera and the largest, farthest spheres the formats
 // hold, every one a mirror, six bounces.

@@ -19,14 +19,14 @@
 namespace tripsitter::device {
 namespace {
 
+using testing::kDielectric;
+using testing::kLambertian;
+using testing::kMetal;
 using testing::PathBall;
 using testing::path_frame_of;
 
 // Fewer worlds under the sanitizers, which run the whole suite many times slower.
 using core::kSanitized;
-
-constexpr std::uint8_t kLambertian = link::kMaterialLambertian, kMetal = link::kMaterialMetal,
-                       kDielectric = link::kMaterialDielectric;
 
 // What one frame of a device came to: the visible pixels, the statistics and frame memory after it.
 struct Shot {

@@ -55,6 +55,16 @@ inline std::vector<core::Rgb444> visible_pixels(Device& device, FrameStats* stat
   return pixels;  // rows 0..479 in order, 640 each
 }
 
+// The material codes of link/frame.h, as the tests write them.
+inline constexpr std::uint8_t kLambertian = link::kMaterialLambertian, kMetal = link::kMaterialMetal,
+                              kDielectric = link::kMaterialDielectric;
+
+// The preset with another bounce cut-off (DevicePreset::max_bounces).
+inline DevicePreset with_bounces(DevicePreset p, int bounces) {
+  p.max_bounces = bounces;
+  return p;
+}
+
 // Formats of 32 bits, the widest validate() allows: coordinates beyond FastTracer::kNarrowLimit are
 // possible, so some worlds take the plain worker's path inside the fast model (FastTracer::kNarrowLimit).
 inline DevicePreset wide_32_preset() {

@@ -9,7 +9,7 @@
 namespace tripsitter::host {
 namespace {
 
-const link::SceneFormats kWide{{24, 4, true}, {24, 4, true}, {24, 4, true}, {24, 4, false}, 4096};
+const link::SceneFormats kWideFormats{{24, 4, true}, {24, 4, true}, {24, 4, true}, {24, 4, false}, 4096};
 
 struct Good {
   const char* text;
@@ -143,8 +143,8 @@ TEST(KeyScript, LimitsAreEnforced) {
 
 TEST(KeyScriptPlayer, StepsOneTickAtATimeThroughApplyHeldKey) {
   const scene::Scene scene = *scene::builtin("demo");
-  Host played(scene, kWide, link::WireVersion::kV2);
-  Host expected(scene, kWide, link::WireVersion::kV2);
+  Host played(scene, kWideFormats, link::WireVersion::kV2);
+  Host expected(scene, kWideFormats, link::WireVersion::kV2);
   KeyScriptPlayer player(parse_key_script("W 100ms\nwait 50ms\nJ\nwait 0\nD 50ms\n").value());
   int ticks = 0;
   while (player.step(played)) ++ticks;
@@ -161,7 +161,7 @@ TEST(KeyScriptPlayer, StepsOneTickAtATimeThroughApplyHeldKey) {
 
 TEST(KeyScriptPlayer, RResetsWorldAndCamera) {
   const scene::Scene scene = *scene::builtin("demo");
-  Host host(scene, kWide, link::WireVersion::kV2);
+  Host host(scene, kWideFormats, link::WireVersion::kV2);
   const core::Vec3d start = host.camera().position();
   KeyScriptPlayer player(parse_key_script("W 1s\nL 1s\nR\n").value());
   for (int i = 0; i < 120; ++i) ASSERT_TRUE(player.step(host));
@@ -173,7 +173,7 @@ TEST(KeyScriptPlayer, RResetsWorldAndCamera) {
 }
 
 TEST(KeyScriptPlayer, AnEmptyScriptIsDoneAtOnce) {
-  Host host(*scene::builtin("demo"), kWide, link::WireVersion::kV2);
+  Host host(*scene::builtin("demo"), kWideFormats, link::WireVersion::kV2);
   KeyScriptPlayer player(parse_key_script("# nothing\nwait 1ms\n").value());
   EXPECT_TRUE(player.done());
   EXPECT_FALSE(player.step(host));

@@ -10,7 +10,7 @@
 namespace tripsitter::link {
 namespace {
 
-V1Sphere random_sphere(std::mt19937& rng) {
+V1Sphere random_v1_sphere(std::mt19937& rng) {
   auto pick = [&rng](std::int64_t lo, std::int64_t hi) {
     return std::uniform_int_distribution<std::int64_t>(lo, hi)(rng);
   };
@@ -86,7 +86,7 @@ TEST(WireV1, DecodeSignExtends) {
 TEST(WireV1, RoundTripOfRandomFields) {
   std::mt19937 rng(1);
   for (int i = 0; i < 10000; ++i) {
-    const V1Sphere s = random_sphere(rng);
+    const V1Sphere s = random_v1_sphere(rng);
     ASSERT_EQ(decode_v1_word(encode_v1_word(s)), s) << "iteration " << i;
   }
 }
@@ -133,7 +133,7 @@ TEST(WireV1, StreamReassemblesEveryTransferSize) {
   std::vector<V1Sphere> sent;
   std::vector<std::uint8_t> stream;
   for (int i = 0; i < 13; ++i) {
-    sent.push_back(random_sphere(rng));
+    sent.push_back(random_v1_sphere(rng));
     append_v1_bytes(encode_v1_word(sent.back()), stream);
   }
   ASSERT_EQ(stream.size(), sent.size() * kV1WordBytes);

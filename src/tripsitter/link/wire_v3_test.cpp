@@ -19,7 +19,7 @@ namespace {
 
 using Bytes = std::vector<std::uint8_t>;
 
-constexpr std::uint32_t kLimit = 4096;
+constexpr std::uint32_t kMaxSpheres = 4096;
 
 World world_of(std::uint32_t session, std::uint32_t sequence, std::size_t spheres, std::mt19937& rng) {
   World w;
@@ -55,7 +55,7 @@ struct Decoded {
 };
 
 // Pushes the stream one byte at a time, so the moment of each delivery is exact.
-Decoded decode_bytewise(WireVersion wire, const Bytes& stream, std::uint32_t limit = kLimit) {
+Decoded decode_bytewise(WireVersion wire, const Bytes& stream, std::uint32_t limit = kMaxSpheres) {
   Decoded d;
   std::size_t pushed = 0;
   FrameStreamDecoder decoder(wire, limit,
@@ -87,7 +87,7 @@ TEST(WireV3, WorkedExampleOfTheDocument) {
                           0x04, 0x00, 0x00, 0xCC, 0x4D, 0x4D, 0x00, 0x00, 0x18, 0x00, 0x2F, 0x7E, 0x9A, 0x59};
   EXPECT_EQ(encode_frame(WireVersion::kV3, w), expected);
   EXPECT_EQ(frame_bytes(WireVersion::kV3, 1), expected.size());
-  const auto back = decode_frame(WireVersion::kV3, expected, kLimit);
+  const auto back = decode_frame(WireVersion::kV3, expected, kMaxSpheres);
   ASSERT_TRUE(back.ok()) << back.error().detail;
   EXPECT_EQ(back.value(), w);
 }
@@ -98,7 +98,7 @@ TEST(WireV3, RoundTripOfRandomWorlds) {
     const World w = world_of(static_cast<std::uint32_t>(rng()), static_cast<std::uint32_t>(rng()), n, rng);
     const Bytes bytes = encode_frame(WireVersion::kV3, w);
     ASSERT_EQ(bytes.size(), kV3HeaderBytes + n * kSphereBytes + kFrameTrailerBytes);
-    const auto back = decode_frame(WireVersion::kV3, bytes, kLimit);
+    const auto back = decode_frame(WireVersion::kV3, bytes, kMaxSpheres);
     ASSERT_TRUE(back.ok()) << back.error().detail;
     EXPECT_EQ(back.value(), w);
   }
@@ -279,14 +279,14 @@ TEST(WireV3, AHeaderInsideAFrameCutsItHoweverTheFrameArrives) {
   const Bytes inner = encode_frame(WireVersion::kV3, world_of(2, 1, 0, rng));  // 32 bytes: header and CRC
   std::copy(inner.begin(), inner.begin() + kV3HeaderBytes, outer.begin() + kV3HeaderBytes + 24);
   restamp_frame(WireVersion::kV3, outer, 1, 1);  // a frame CRC that matches: the host really sent this
-  const auto whole = decode_frame(WireVersion::kV3, outer, kLimit);
+  const auto whole = decode_frame(WireVersion::kV3, outer, kMaxSpheres);
   ASSERT_FALSE(whole.ok());
   EXPECT_EQ(whole.error().error, FrameError::kTruncated);
   EXPECT_EQ(whole.error().offset, kV3HeaderBytes + 24);
   for (const std::size_t transfer : {std::size_t{1}, std::size_t{7}, outer.size()}) {
     std::vector<World> frames;
     std::vector<FrameError> errors;
-    FrameStreamDecoder decoder(WireVersion::kV3, kLimit,
+    FrameStreamDecoder decoder(WireVersion::kV3, kMaxSpheres,
                                {[&](World&& w) { frames.push_back(std::move(w)); },
                                 [&](const FrameFailure& f, std::size_t) { errors.push_back(f.error); }});
     for (std::size_t at = 0; at < outer.size(); at += transfer)

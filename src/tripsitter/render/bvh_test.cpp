@@ -13,23 +13,22 @@
 #include <vector>
 
 #include <tripsitter/core/sanitizers.h>
+#include <tripsitter/render/test_util.h>
 
 namespace tripsitter::render {
 namespace {
 
 using core::Vec3d;
+using testing::kInf;
+using testing::uniform;
+using testing::uniform_in_box;
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr double kFloatEps = 0x1p-24;  // unit roundoff of float
 
 Vec3d to_double(const Vec3f& v) { return {v.x, v.y, v.z}; }
 
-float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
 float log_uniform(std::mt19937& rng, float lo, float hi) {
   return std::exp(uniform(rng, std::log(lo), std::log(hi)));
-}
-Vec3f uniform_in_box(std::mt19937& rng, float lo, float hi) {
-  return {uniform(rng, lo, hi), uniform(rng, lo, hi), uniform(rng, lo, hi)};
 }
 Vec3f random_unit(std::mt19937& rng) {
   std::normal_distribution<float> n;

@@ -20,6 +20,7 @@
 
 #include <tripsitter/core/sanitizers.h>
 #include <tripsitter/render/path_tracer.h>
+#include <tripsitter/render/test_util.h>
 #include <tripsitter/scene/builtin.h>
 
 namespace tripsitter::render {
@@ -71,7 +72,7 @@ struct Frame {
 
 const Vec3f kFacing{0.0f, 0.0f, -1.0f};
 const Vec3f kWhite{1.0f, 1.0f, 1.0f};
-constexpr float kInf = std::numeric_limits<float>::infinity();
+using testing::kInf;
 
 std::vector<Vec3f> run(const DenoiseInput& in, const DenoiseSettings& settings) {
   std::vector<Vec3f> out(in.color.size());
@@ -124,7 +125,7 @@ TEST(Denoise, SameBytesOnAnyThreadCountAndWhenReused) {
   const Frame other = busy_frame(40, 30, 0.5f, 9);
   for (const int iterations : {3, 5}) {
     for (const bool spatial : {false, true}) {
-      SCOPED_TRACE(testing::Message() << iterations << " iterations, " << (spatial ? "estimated" : "given") << " variance");
+      SCOPED_TRACE(::testing::Message() << iterations << " iterations, " << (spatial ? "estimated" : "given") << " variance");
       DenoiseInput in = f.input();
       if (spatial) in.variance = {};
       DenoiseSettings s;
@@ -232,7 +233,7 @@ TEST(Denoise, HardEdgesStaySharpAndRegionMeansStay) {
   for (const int iterations : {3, 5}) {
     for (const EdgeKind kind : {EdgeKind::kAlbedo, EdgeKind::kNormal, EdgeKind::kDepth, EdgeKind::kSky, EdgeKind::kLuminance}) {
       for (std::uint64_t seed = 1; seed <= 3; ++seed) {
-        SCOPED_TRACE(testing::Message() << iterations << " iterations, edge kind " << static_cast<int>(kind) << ", seed " << seed);
+        SCOPED_TRACE(::testing::Message() << iterations << " iterations, edge kind " << static_cast<int>(kind) << ", seed " << seed);
         const Frame f = edge_frame(kind, seed);
         DenoiseSettings settings;
         settings.iterations = iterations;
@@ -292,7 +293,7 @@ TEST(Denoise, ReducesNoiseOnASyntheticImage) {
   const Frame f = busy_frame(96, 64, 0.8f, 4);
   for (const int iterations : {3, 5}) {
     for (const bool spatial : {false, true}) {
-      SCOPED_TRACE(testing::Message() << iterations << " iterations, " << (spatial ? "estimated" : "given") << " variance");
+      SCOPED_TRACE(::testing::Message() << iterations << " iterations, " << (spatial ? "estimated" : "given") << " variance");
       DenoiseInput in = f.input();
       if (spatial) in.variance = {};
       DenoiseSettings settings;

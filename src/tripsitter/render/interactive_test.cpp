@@ -9,19 +9,19 @@
 namespace tripsitter::render {
 namespace {
 
-constexpr int kW = 48, kH = 27;
+constexpr int kWidth = 48, kHeight = 27;
 
 struct Field {
   scene::Scene sc = *scene::builtin("field");
   PathScene scene{sc.spheres};
   PathSettings path() const {
-    PathSettings s{.width = kW, .height = kH, .spp = 1, .max_depth = 8, .seed = 3, .threads = 2, .sky = {}};
+    PathSettings s{.width = kWidth, .height = kHeight, .spp = 1, .max_depth = 8, .seed = 3, .threads = 2, .sky = {}};
     return s;
   }
   ThinLensCamera camera(double orbit_x = 0) const {
     scene::CameraSettings c = sc.camera;
     c.lookfrom.x += orbit_x;
-    return ThinLensCamera(c, kW, kH);
+    return ThinLensCamera(c, kWidth, kHeight);
   }
 };
 
@@ -34,7 +34,7 @@ InteractiveSettings plain() {
 TEST(Interactive, AStillCameraWithoutTheDenoiserIsPlainAccumulation) {
   const Field f;
   InteractivePath loop(f.scene, f.path(), plain());
-  std::vector<Vec3f> sum(static_cast<std::size_t>(kW * kH));
+  std::vector<Vec3f> sum(static_cast<std::size_t>(kWidth * kHeight));
   for (std::uint32_t k = 0; k < 3; ++k) {
     PathSettings s = f.path();
     s.first_sample = k;
@@ -54,7 +54,7 @@ TEST(Interactive, RowsTakeTurnsAndTogetherMakeTheWholePass) {
   settings.row_step = 2;
   InteractivePath loop(f.scene, f.path(), settings);
   loop.frame(f.camera());
-  EXPECT_DOUBLE_EQ(loop.mean_samples(), static_cast<double>((kH + 1) / 2) / kH);  // rows 0, 2, ...
+  EXPECT_DOUBLE_EQ(loop.mean_samples(), static_cast<double>((kHeight + 1) / 2) / kHeight);  // rows 0, 2, ...
   const ImageRgbF& picture = loop.frame(f.camera());
   const ImageRgbF whole = render_path(f.scene, f.camera(), f.path());  // sample 0 of every pixel
   EXPECT_EQ(picture.pixels, whole.pixels);

@@ -49,9 +49,8 @@ double rmse(const ImageRgbF& a, const ImageRgbF& b) {
 }
 
 using testing::Histogram;
+using testing::kSamples;
 using testing::turn;
-
-constexpr int kSamples = 200000;
 
 // Marsaglia's method: unit length, z uniform in [-1, 1] (Archimedes), the angle around z uniform, and the moments
 // of the uniform measure (E x = 0, E x^2 = 1/3, E xy = 0). Normalised points of the cube, or z = 1 - 2 sqrt(s),

@@ -229,9 +229,8 @@ TEST(CosSinTurns, MatchesTheLibraryWithinTwoTenMillionths) {
 
 using testing::below_one;
 using testing::Histogram;
+using testing::kSamples;
 using testing::turn;
-
-constexpr int kSamples = 200000;
 
 // The maps of the square, fed independent uniform points: unit_vector uniform on the sphere (z and the angle
 // uniform, moments of the uniform measure), in_unit_disk uniform in the disk (r^2 and the angle uniform).

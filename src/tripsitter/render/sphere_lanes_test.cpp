@@ -3,6 +3,7 @@
 // one program, as isa.h allows, giving the same t bit for bit and the same closest hits as brute force.
 #include <tripsitter/render/bvh.h>
 #include <tripsitter/render/sphere_lanes.h>
+#include <tripsitter/render/test_util.h>
 
 #include <gtest/gtest.h>
 
@@ -17,8 +18,10 @@ namespace tripsitter::render {
 namespace {
 
 using simd::F8;
+using testing::kInf;
+using testing::uniform;
+using testing::uniform_in_box;
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kLanes = 8;
 
 // The lanes round as the scalar kernel only without fused multiply-adds; this file is compiled without
@@ -28,11 +31,6 @@ constexpr bool kMayFuse = true;
 #else
 constexpr bool kMayFuse = false;
 #endif
-
-float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
-Vec3f uniform_in_box(std::mt19937& rng, float lo, float hi) {
-  return {uniform(rng, lo, hi), uniform(rng, lo, hi), uniform(rng, lo, hi)};
-}
 
 // Small spheres near the origin, huge ones far away (as ground planes), and some exact copies for ties.
 struct World {

@@ -1,15 +1,30 @@
-// Helpers shared by the render tests: the statistics that hold a sampler to its distribution.
+// Helpers shared by the render tests: random points, and the statistics that hold a sampler to its distribution.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include <tripsitter/core/vec.h>
+
 namespace tripsitter::render::testing {
+
+inline constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Uniform in [lo, hi), and in the box [lo, hi)^3.
+inline float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
+inline core::Vec3f uniform_in_box(std::mt19937& rng, float lo, float hi) {
+  return {uniform(rng, lo, hi), uniform(rng, lo, hi), uniform(rng, lo, hi)};
+}
+
+// Samples the statistical tests draw (their tolerances are set for this many).
+inline constexpr int kSamples = 200000;
 
 // Counts of values in [0, 1) in equal bins, and Pearson's chi-square statistic against the uniform distribution.
 class Histogram {
