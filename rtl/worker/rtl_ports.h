@@ -29,6 +29,9 @@ void put(VlWide<Words>& port, UInt128 v) {
   for (std::size_t i = 0; i < Words; ++i) port[i] = i < 4 ? static_cast<EData>(v >> (32 * i)) : EData{0};
 }
 
+// The low `bits` bits set (all 64 from 63 on).
+inline std::int64_t mask(int bits) { return bits >= 63 ? -1 : (std::int64_t{1} << bits) - 1; }
+
 inline UInt128 get(CData port) { return port; }
 inline UInt128 get(SData port) { return port; }
 inline UInt128 get(IData port) { return port; }

@@ -31,7 +31,6 @@ using Sphere = core::KernelSphere<std::int64_t>;
 
 constexpr int kCentreBits = 24, kRadiusBits = 24, kOriginBits = 26, kDirBits = 22, kOcBits = 27, kNumBits = 51;
 
-std::int64_t mask(int bits) { return (std::int64_t{1} << bits) - 1; }
 UInt128 raw(Int128 v, int bits) { return static_cast<UInt128>(v) & ((UInt128{1} << bits) - 1); }
 
 // The device's arithmetic as the wide preset's worker has it.
