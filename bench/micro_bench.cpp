@@ -9,9 +9,12 @@
 #include <tripsitter/device/controller.h>
 #include <tripsitter/device/sqrt_unit.h>
 #include <tripsitter/link/frame.h>
+#include <tripsitter/render/denoise.h>
+#include <tripsitter/render/interactive.h>
 #include <tripsitter/render/normal.h>
 #include <tripsitter/render/path_tracer.h>
 #include <tripsitter/render/primary.h>
+#include <tripsitter/render/temporal.h>
 #include <tripsitter/scene/builtin.h>
 
 namespace {
@@ -212,5 +215,78 @@ void BM_PathField(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * 160 * 90);
 }
 BENCHMARK(BM_PathField)->Unit(benchmark::kMillisecond);
+
+// The window's path mode per frame (render/interactive.h), its stages apart, field at 640x480, one thread.
+// The camera of field orbited by `degrees` about its target.
+render::ThinLensCamera orbited_field_camera(double degrees) {
+  scene::CameraSettings c = scene::builtin("field")->camera;
+  const double a = degrees * 3.14159265358979323846 / 180, ca = std::cos(a), sa = std::sin(a);
+  const core::Vec3d d = c.lookfrom - c.lookat;
+  c.lookfrom = c.lookat + core::Vec3d{d.x * ca + d.z * sa, d.y, -d.x * sa + d.z * ca};
+  return render::ThinLensCamera(c, 640, 480);
+}
+
+// Reprojection: one pass added after a 0.75-degree move (a frame of the window's orbit), alternating two views.
+void BM_ReprojectField(benchmark::State& state) {
+  const scene::Scene field = *scene::builtin("field");
+  const render::PathScene scene(field.spheres);
+  const render::ThinLensCamera cameras[2] = {orbited_field_camera(0), orbited_field_camera(0.75)};
+  render::Aovs aovs[2];
+  for (int k = 0; k < 2; ++k) render::render_primary_aovs(scene, cameras[k], {.width = 640, .height = 480, .threads = 1}, aovs[k]);
+  const render::PathSettings s{.width = 640, .height = 480, .spp = 1, .max_depth = 50, .seed = 1, .threads = 1, .sky = {}};
+  const render::ImageRgbF pass = render::render_path(scene, cameras[0], s);
+  render::TemporalAccumulator history({.threads = 1});
+  int k = 0;
+  for (auto _ : state) {
+    history.add(pass.pixels, aovs[k], cameras[k].pinhole());
+    k ^= 1;
+  }
+  state.SetItemsProcessed(state.iterations() * 640 * 480);
+}
+BENCHMARK(BM_ReprojectField)->Unit(benchmark::kMillisecond);
+
+// The denoiser's three passes over a one-sample picture of field, with the spatial variance estimate.
+void BM_DenoiseField(benchmark::State& state) {
+  const scene::Scene field = *scene::builtin("field");
+  const render::PathScene scene(field.spheres);
+  const render::ThinLensCamera camera = orbited_field_camera(0);
+  render::Aovs aovs;
+  render::render_primary_aovs(scene, camera, {.width = 640, .height = 480, .threads = 1}, aovs);
+  const render::PathSettings s{.width = 640, .height = 480, .spp = 1, .max_depth = 50, .seed = 1, .threads = 1, .sky = {}};
+  const render::ImageRgbF pass = render::render_path(scene, camera, s);
+  render::Denoiser denoiser;
+  render::DenoiseSettings settings;
+  settings.threads = 1;
+  std::vector<float> variance(pass.pixels.size());
+  std::vector<core::Vec3f> out(pass.pixels.size());
+  const bool estimate = state.range(0) != 0;
+  for (auto _ : state) {
+    if (estimate)
+      denoiser.estimate_variance({.width = 640, .height = 480, .color = pass.pixels, .variance = {}, .aovs = &aovs},
+                                 settings.variance_radius, 1, variance);
+    else
+      denoiser.denoise({.width = 640, .height = 480, .color = pass.pixels, .variance = variance, .aovs = &aovs}, settings, out);
+  }
+  state.SetItemsProcessed(state.iterations() * 640 * 480);
+}
+BENCHMARK(BM_DenoiseField)->ArgName("estimate")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// A whole frame of the window's loop while orbiting (feature buffers, paths, reprojection, variance, filter), one
+// thread; the argument is the row step (paths on one row in that many).
+void BM_InteractiveFrameField(benchmark::State& state) {
+  const scene::Scene field = *scene::builtin("field");
+  const render::PathScene scene(field.spheres);
+  const render::PathSettings s{.width = 640, .height = 480, .spp = 1, .max_depth = 50, .seed = 1, .threads = 1, .sky = {}};
+  render::InteractiveSettings settings;
+  settings.row_step = static_cast<int>(state.range(0));
+  render::InteractivePath loop(scene, s, settings);
+  double degrees = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(loop.frame(orbited_field_camera(degrees)));
+    degrees += 0.75;
+  }
+  state.SetItemsProcessed(state.iterations() * 640 * 480);
+}
+BENCHMARK(BM_InteractiveFrameField)->ArgName("row_step")->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

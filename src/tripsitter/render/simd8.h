@@ -27,8 +27,10 @@ struct F8 {
 #if defined(__AVX__)
   __m256 v;
   static F8 load(const float* p) { return {_mm256_load_ps(p)}; }  // REQUIRES p 32-byte aligned
+  static F8 loadu(const float* p) { return {_mm256_loadu_ps(p)}; }
   static F8 set1(float x) { return {_mm256_set1_ps(x)}; }
   void store(float* p) const { _mm256_store_ps(p, v); }
+  void storeu(float* p) const { _mm256_storeu_ps(p, v); }
   friend F8 operator+(F8 a, F8 b) { return {_mm256_add_ps(a.v, b.v)}; }
   friend F8 operator-(F8 a, F8 b) { return {_mm256_sub_ps(a.v, b.v)}; }
   friend F8 operator*(F8 a, F8 b) { return {_mm256_mul_ps(a.v, b.v)}; }
@@ -57,10 +59,15 @@ struct F8 {
 #else
   __m128 lo, hi;
   static F8 load(const float* p) { return {_mm_load_ps(p), _mm_load_ps(p + 4)}; }  // REQUIRES p 16-byte aligned
+  static F8 loadu(const float* p) { return {_mm_loadu_ps(p), _mm_loadu_ps(p + 4)}; }
   static F8 set1(float x) { return {_mm_set1_ps(x), _mm_set1_ps(x)}; }
   void store(float* p) const {
     _mm_store_ps(p, lo);
     _mm_store_ps(p + 4, hi);
+  }
+  void storeu(float* p) const {
+    _mm_storeu_ps(p, lo);
+    _mm_storeu_ps(p + 4, hi);
   }
   friend F8 operator+(F8 a, F8 b) { return {_mm_add_ps(a.lo, b.lo), _mm_add_ps(a.hi, b.hi)}; }
   friend F8 operator-(F8 a, F8 b) { return {_mm_sub_ps(a.lo, b.lo), _mm_sub_ps(a.hi, b.hi)}; }

@@ -1,9 +1,12 @@
 #include <tripsitter/render/temporal.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 #include <tripsitter/core/parallel.h>
+#include <tripsitter/render/simd8.h>
 
 namespace tripsitter::render {
 namespace {
@@ -12,28 +15,69 @@ bool same_view(const ThinLensCamera::Pinhole& a, const ThinLensCamera::Pinhole& 
   return a.origin == b.origin && a.pixel00 == b.pixel00 && a.du == b.du && a.dv == b.dv;
 }
 
-// Where directions from a view's eye cross its image, in pixel coordinates (pixel centres at whole numbers):
-// the view's terms computed once for every pixel that asks.
+// Where each pixel's surface point of the new view lies in the previous view's image (pixel centres at whole
+// numbers), eight pixels at a time: the square roots and divisions of reprojection, done once per pixel (the taps
+// in add() are then loads and comparisons).
 class Projection {
  public:
-  explicit Projection(const ThinLensCamera::Pinhole& view)
-      : forward_(core::cross(view.du, view.dv)),  // du right, dv down: their cross product looks ahead
-        plane_(core::dot(view.pixel00 - view.origin, forward_)),
-        corner_(view.origin - view.pixel00),
-        du_(view.du * (1.0f / core::dot(view.du, view.du))),
-        dv_(view.dv * (1.0f / core::dot(view.dv, view.dv))) {}
+  Projection(const ThinLensCamera::Pinhole& now, const ThinLensCamera::Pinhole& before)
+      : now_(now),
+        before_origin_(before.origin),
+        forward_(core::cross(before.du, before.dv)),  // du right, dv down: their cross product looks ahead
+        plane_(core::dot(before.pixel00 - before.origin, forward_)),
+        corner_(before.origin - before.pixel00),
+        du_(before.du * (1.0f / core::dot(before.du, before.du))),
+        dv_(before.dv * (1.0f / core::dot(before.dv, before.dv))) {}
 
-  // False when d does not point into the half-space in front of the eye.
-  bool operator()(const Vec3f& d, float& x, float& y) const {
-    const float along = core::dot(d, forward_);
-    if (!(along > 0)) return false;
-    const Vec3f on_plane = d * (plane_ / along) + corner_;
-    x = core::dot(on_plane, du_);
-    y = core::dot(on_plane, dv_);
-    return std::isfinite(x) && std::isfinite(y);
+  // For the `width` pixels of `row` with their depths: x, y in the previous image (NaN where the point was behind
+  // the previous eye or the projection is not finite) and `expected`, the distance from the previous eye to the
+  // surface point (0 for the sky, whose pixels keep their direction). x, y and expected hold width rounded up to
+  // a multiple of 8.
+  void row(int row, int width, const float* depth, float* x, float* y, float* expected) const {
+    using simd::F8;
+    const F8 inf = F8::set1(std::numeric_limits<float>::infinity());
+    const F8 nan = F8::set1(std::numeric_limits<float>::quiet_NaN());
+    const F8 zero = F8::set1(0), one = F8::set1(1);
+    const Vec3f start = now_.pixel00 + now_.dv * static_cast<float>(row) - now_.origin;
+    const Vec3f eye = now_.origin - before_origin_;
+    const auto splat = [](const Vec3f& v) { return std::array<F8, 3>{F8::set1(v.x), F8::set1(v.y), F8::set1(v.z)}; };
+    const auto [sx, sy, sz] = splat(start);
+    const auto [ux, uy, uz] = splat(now_.du);
+    const auto [ex, ey, ez] = splat(eye);
+    const auto [wx, wy, wz] = splat(forward_);
+    const auto [cx, cy, cz] = splat(corner_);
+    const auto [dux, duy, duz] = splat(du_);
+    const auto [dvx, dvy, dvz] = splat(dv_);
+    const F8 plane = F8::set1(plane_);
+    alignas(32) float lanes[8];
+    for (int col = 0; col < width; col += 8) {
+      for (int k = 0; k < 8; ++k) lanes[k] = static_cast<float>(col + k);
+      const F8 c = F8::load(lanes);
+      // The last group may reach past the row: its extra lanes see the sky, and are not read.
+      for (int k = 0; k < 8; ++k) lanes[k] = col + k < width ? depth[col + k] : std::numeric_limits<float>::infinity();
+      const F8 d = F8::load(lanes);
+      const F8 rx = sx + ux * c, ry = sy + uy * c, rz = sz + uz * c;
+      const F8 inv = one / sqrt(rx * rx + ry * ry + rz * rz);
+      const F8 sky = d == inf;
+      // From the previous eye to the point; on the sky, the unit direction itself.
+      const F8 t = select(sky, inv, d * inv);
+      const F8 fx = andnot(sky, ex) + rx * t, fy = andnot(sky, ey) + ry * t, fz = andnot(sky, ez) + rz * t;
+      andnot(sky, sqrt(fx * fx + fy * fy + fz * fz)).storeu(expected + col);
+      const F8 along = fx * wx + fy * wy + fz * wz;
+      const F8 scale = plane / along;
+      const F8 px = fx * scale + cx, py = fy * scale + cy, pz = fz * scale + cz;
+      const F8 u = px * dux + py * duy + pz * duz;
+      const F8 v = px * dvx + py * dvy + pz * dvz;
+      const F8 magnitude = F8::set1(-0.0f);
+      const F8 ok = (along > zero) & (andnot(magnitude, u) < inf) & (andnot(magnitude, v) < inf);
+      select(ok, u, nan).storeu(x + col);
+      select(ok, v, nan).storeu(y + col);
+    }
   }
 
  private:
+  ThinLensCamera::Pinhole now_;
+  Vec3f before_origin_;
   Vec3f forward_;
   float plane_;   // the image plane's distance along forward_, times |forward_|
   Vec3f corner_;  // from pixel 0's centre to the eye
@@ -73,27 +117,33 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
       }
     });
   } else {
-    const ThinLensCamera::Pinhole before = view_;
-    const Projection project(before);
+    const Projection project(view, view_);
     const float cosine2 = settings_.normal_cosine * settings_.normal_cosine;
+    const float low = 1 - settings_.depth_tolerance, high = 1 + settings_.depth_tolerance;
+    // The previous pass's means per sample: one division per pixel here rather than one per tap below.
+    inverse_count_.resize(n);
+    for (std::size_t j = 0; j < n; ++j) inverse_count_[j] = count_[j] > 0 ? 1.0f / count_[j] : 0.0f;
     std::vector<std::size_t> carried(static_cast<std::size_t>(h));
     core::parallel_for(0, h, settings_.threads, [&](int row) {
+      thread_local std::vector<float> scratch;
+      const int padded = (w + 7) / 8 * 8;
+      scratch.resize(3 * static_cast<std::size_t>(padded));
+      float* const xs = scratch.data();
+      float* const ys = xs + padded;
+      float* const expecteds = ys + padded;
+      const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(w);
+      project.row(row, w, aovs.depth.data() + first, xs, ys, expecteds);
       std::size_t row_carried = 0;
       for (int col = 0; col < w; ++col) {
-        const std::size_t i = static_cast<std::size_t>(row) * static_cast<std::size_t>(w) + static_cast<std::size_t>(col);
-        const Vec3f ray = core::normalize(view.pixel00 + view.du * static_cast<float>(col) +
-                                          view.dv * static_cast<float>(row) - view.origin);
-        const float normal2 = core::dot(aovs.normal[i], aovs.normal[i]);
-        const float depth = aovs.depth[i];
-        const bool sky = std::isinf(depth);
-        // The pixel's surface point, seen from the previous eye; a sky pixel keeps its direction.
-        const Vec3f from_before = sky ? ray : view.origin + ray * depth - before.origin;
-        const float expected = sky ? 0.0f : core::length(from_before);
+        const std::size_t i = first + static_cast<std::size_t>(col);
         const Vec3f& normal = aovs.normal[i];
+        const float normal2 = core::dot(normal, normal);
+        const float x = xs[col], y = ys[col], expected = expecteds[col];
+        const bool sky = std::isinf(aovs.depth[i]);
         Vec3f mean{};
         float square_mean = 0, samples = 0, weight = 0;
-        float x, y;
-        if (project(from_before, x, y)) {
+        // A NaN position fails both comparisons: no tap.
+        if (x > -1 && y > -1 && x < static_cast<float>(w) && y < static_cast<float>(h)) {
           const float fx = std::floor(x), fy = std::floor(y);
           const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
           const float ax = x - fx, ay = y - fy;
@@ -101,20 +151,23 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
             const int tx = x0 + (k & 1), ty = y0 + (k >> 1);
             if (tx < 0 || ty < 0 || tx >= w || ty >= h) continue;
             const std::size_t j = static_cast<std::size_t>(ty) * static_cast<std::size_t>(w) + static_cast<std::size_t>(tx);
-            if (!(count_[j] > 0)) continue;
+            const float inverse = inverse_count_[j];
+            if (!(inverse > 0)) continue;
             const float d = depth_[j];
-            if (sky != std::isinf(d)) continue;
-            if (!sky) {
-              if (std::fabs(d - expected) > settings_.depth_tolerance * expected) continue;
-              // cos >= normal_cosine, squared (both sides non-negative): no square root per tap.
+            if (sky) {
+              if (!std::isinf(d)) continue;
+            } else {
+              // Within depth_tolerance of the expected distance (false for the sky's infinite depth) ...
+              if (!(d >= low * expected && d <= high * expected)) continue;
+              // ... and cos >= normal_cosine, squared (both sides non-negative): no square root per tap.
               const Vec3f& m = normal_[j];
               const float dot = core::dot(m, normal);
               if (!(dot > 0 && dot * dot >= cosine2 * core::dot(m, m) * normal2)) continue;
             }
             const float tap = ((k & 1) ? ax : 1 - ax) * ((k >> 1) ? ay : 1 - ay);
-            const float inv = tap / count_[j];
-            mean += sum_[j] * inv;
-            square_mean += square_sum_[j] * inv;
+            const float share = tap * inverse;
+            mean += sum_[j] * share;
+            square_mean += square_sum_[j] * share;
             samples += count_[j] * tap;
             weight += tap;
           }
@@ -126,8 +179,9 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
         if (weight > 1e-3f) {
           // Each tap's mean, weighted; the history counts for at most max_history_moving samples.
           const float kept = std::min(samples / weight, settings_.max_history_moving);
-          next_sum_[i] = mean * (kept / weight) + sample;
-          next_square_sum_[i] = square_mean * (kept / weight) + l * l;
+          const float scale = kept / weight;
+          next_sum_[i] = mean * scale + sample;
+          next_square_sum_[i] = square_mean * scale + l * l;
           next_count_[i] = kept + (sampled ? 1.0f : 0.0f);
           ++row_carried;
         } else {

@@ -71,6 +71,7 @@ class TemporalAccumulator {
   std::vector<float> count_, next_count_;
   std::vector<Vec3f> normal_;  // the previous pass's feature buffers: where its history lies
   std::vector<float> depth_;
+  std::vector<float> inverse_count_;  // 1 / count_, 0 where count_ is 0 (scratch of add())
   std::size_t reprojected_ = 0;
 };
 
