@@ -79,12 +79,36 @@ TEST(DeviceCompare, HwSourceWithThePathPresetAccumulatesWhileStillAndRestartsWhe
   EXPECT_EQ(f->samples, 2);  // a world of other content starts over
 
   // Frame memory holds at most 255 samples per pixel: after one frame of 128 another would not fit, so nothing
-  // more is added. (An empty world and one ray per path, so that the samples cost little.)
-  auto full = make_frame_source(scene::random_spheres(0, 1), path_config(128, 1));
-  EXPECT_EQ(full->draw().samples, 128);
+  // more is added. (An empty world and one ray per path, so that the samples cost little; and one worker, so that
+  // only the pixels at the start of each line (24 of 640) are on time and traced: the frame counts, refining() and
+  // the 255-sample limit do not depend on how many pixels a frame traces, and the one worker still puts 128 samples
+  // into thousands of pixels. With the preset's 64 workers the first frames of these two sources traced about 70
+  // million samples, most of this test's time.)
+  SourceConfig full_config = path_config(128, 1);
+  full_config.preset.workers = 1;
+  auto full = make_frame_source(scene::random_spheres(0, 1), full_config);
+  f = &full->draw();
+  EXPECT_EQ(f->samples, 128);
   EXPECT_FALSE(full->refining());
-  EXPECT_EQ(full->draw().samples, 128);
-  auto nearly = make_frame_source(scene::random_spheres(0, 1), path_config(100, 1));
+  const AccumulatedImage full_first = accumulated_image(*f->frame_memory);
+  EXPECT_EQ(full_first.max_count, 128);
+  EXPECT_GT(640u * 480u - full_first.without_samples, 1000u);
+  f = &full->draw();
+  EXPECT_EQ(f->samples, 128);
+  // Pixels late in the first frame may take their 128 now; those that have 128 take nothing.
+  const AccumulatedImage full_second = accumulated_image(*f->frame_memory);
+  EXPECT_EQ(full_second.max_count, 128);
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < full_first.counts.size(); ++i) {
+    const render::Vec3f& a = full_first.mean.pixels[i];
+    const render::Vec3f& b = full_second.mean.pixels[i];
+    changed += full_first.counts[i] != 0 &&
+               (full_second.counts[i] != full_first.counts[i] || a.x != b.x || a.y != b.y || a.z != b.z);
+  }
+  EXPECT_EQ(changed, 0u);
+  SourceConfig nearly_config = path_config(100, 1);
+  nearly_config.preset.workers = 1;
+  auto nearly = make_frame_source(scene::random_spheres(0, 1), nearly_config);
   nearly->draw();
   EXPECT_TRUE(nearly->refining());  // 200 fit
 
