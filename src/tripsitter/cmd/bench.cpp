@@ -47,6 +47,7 @@ struct BenchOptions {
   bool quality = true;           // the suite's path_relmse_field_* figures
   std::string cache = TRIPSITTER_BENCH_CACHE;  // where their references are kept
   std::string pictures;          // where their pictures are written (empty: nowhere)
+  int row_step = 1;              // the window's --row-step in path_fps_field and path_relmse_field_*
 };
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
@@ -297,6 +298,7 @@ void bench_path_interactive(const BenchOptions& o, Report& r, const std::string&
     config.scene = sc;
     config.mode = modes::Mode::kPath;
     config.threads = t;
+    config.row_step = o.row_step;
     frontend::App app(config);
     app.handle({frontend::Input::Kind::kKeyDown, host::Key::kE});
     r.add(figure, t, median_rate(o, [&] { app.advance(1.0 / 60); return 1.0; }), "frames/s");
@@ -308,6 +310,7 @@ void bench_path_interactive(const BenchOptions& o, Report& r, const std::string&
 void bench_path_quality(const BenchOptions& o, Report& r, const scene::Scene& field) {
   modes::QualitySettings q;
   q.threads = o.threads;
+  q.row_step = o.row_step;
   q.max_depth = field.render.max_depth;
   q.cache_dir = o.cache;
   q.pictures_dir = o.pictures;
@@ -317,7 +320,7 @@ void bench_path_quality(const BenchOptions& o, Report& r, const scene::Scene& fi
   const modes::Reference& ref = quality.reference();
   r.note("path_reference_field", {{"spp", q.reference_spp}, {"noise_relmse", ref.noise_relmse}, {"cached", ref.cached},
                                   {"orbit_spp", q.orbit_reference_spp}, {"orbit_noise_relmse", quality.orbit_noise_relmse()},
-                                  {"cache", o.cache}});
+                                  {"cache", o.cache}, {"row_step", o.row_step}});
   if (!o.json)
     std::printf("reference: field at %d spp (relMSE floor %.5f), orbit frames at %d spp (floor %.5f), in %s\n",
                 q.reference_spp, ref.noise_relmse, q.orbit_reference_spp, quality.orbit_noise_relmse(),
@@ -419,14 +422,20 @@ void add_bench_command(CLI::App& app, Action& run) {
   cmd->add_option("--pictures", o->pictures,
                   "Suite: write the pictures path_relmse_field_* and plain_relmse_field_* measure, and their references, "
                   "as PNG files in this directory");
+  cmd->add_option("--row-step", o->row_step,
+                  "Suite: path_fps_field and path_relmse_field_* with the window's --row-step N (paths on 1 row of "
+                  "every N per frame; the plain_relmse_field_* figures trace every row)")
+      ->capture_default_str()->check(CLI::Range(1, 8));
   cmd->callback([o, cmd, &run] {
     const bool mode_given = cmd->count("--mode") > 0;
     const bool preset_given = cmd->count("--preset") > 0;
-    run = [o, mode_given, preset_given] {
+    const bool row_step_given = cmd->count("--row-step") > 0;
+    run = [o, mode_given, preset_given, row_step_given] {
       const modes::Mode mode = parse_mode(o->mode);
       if (o->scene.empty() && mode_given) throw InputError("--mode needs --scene FILE");
       if (preset_given && (o->scene.empty() || mode != modes::Mode::kHw))
         throw InputError("--preset needs --scene FILE and --mode hw");
+      if (!o->scene.empty() && row_step_given) throw InputError("--row-step is for the suite (no --scene)");
       return o->scene.empty() ? run_suite(*o) : run_scene(*o, mode);
     };
   });

@@ -468,6 +468,8 @@ TEST_F(Cli, CompareJsonAndAccumulateMisusedExitTwo) {
       {"bench --preset path", "--preset"},
       {"bench --scene demo --mode normal --preset path", "--preset"},
       {"bench --scene demo --mode hw --preset nope", "unknown preset"},
+      {"bench --scene demo --mode path --row-step 2", "--row-step"},  // the window's, for the suite
+      {"bench --row-step 9", "--row-step"},
   };
   for (const auto& c : cases) {
     const Result r = run(c.args);

@@ -121,6 +121,7 @@ QualityFigure PathQuality::still(bool denoise, int frames, double seconds, const
   SourceConfig c = config();
   c.progressive = true;
   c.denoise = denoise;
+  c.row_step = denoise ? settings_.row_step : 1;  // the plain tracer's figures trace every row
   const std::unique_ptr<FrameSource> source = make_frame_source(scene_, c);
   QualityFigure f;
   const auto start = Clock::now();
@@ -142,6 +143,7 @@ QualityFigure PathQuality::orbit(bool denoise, bool reuse, const std::string& na
   c.progressive = true;
   c.denoise = denoise;
   c.reuse = reuse;
+  c.row_step = denoise ? settings_.row_step : 1;
   const std::unique_ptr<FrameSource> source = make_frame_source(scene_, c);
   QualityFigure f;
   double samples = 0;

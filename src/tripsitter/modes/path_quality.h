@@ -19,6 +19,7 @@ struct QualitySettings {
   int height = 480;
   int threads = 0;                   // 0: all
   int max_depth = 50;
+  int row_step = 1;                  // the window loop's (SourceConfig::row_step) in the figures with the denoiser on
   int reference_spp = 2048;          // of the still camera's reference
   int orbit_reference_spp = 512;     // of each orbit frame's reference
   int orbit_frames = 60;             // frames of the scripted orbit
