@@ -1,18 +1,19 @@
 #!/usr/bin/env bash
 # Set-up on a fresh Debian machine: installs what is missing, builds, and runs one job.
 #   scripts/bootstrap.sh demo   build (release) and render the demo scene through the whole board model
-#   scripts/bootstrap.sh test   build and run the whole test suite in release, then under the address+undefined
-#                               sanitizers (the asan preset); then the libFuzzer targets. What CI runs (.ci/run)
-#   scripts/bootstrap.sh tsan   build the test executables that start threads under the thread sanitizer (the tsan
-#                               preset, CMakePresets.json) and run them: kept green, run before every submission,
-#                               left out of `test` to keep CI within its time (README.md, "Development")
+#   scripts/bootstrap.sh test       build and run the whole test suite in release, then the libFuzzer targets (built
+#                                   with the address and undefined-behaviour sanitizers). What CI runs (.ci/run)
+#   scripts/bootstrap.sh sanitize   build and run the suite under the address+undefined sanitizers (the asan preset),
+#                                   then the test executables that start threads under the thread sanitizer (tsan;
+#                                   CMakePresets.json): kept green and run before every submission, apart from `test`
+#                                   to keep CI within its time (README.md, "Development")
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 job=${1:-demo}
 case "$job" in
-  demo|test|tsan) ;;
-  *) echo "usage: $0 demo|test|tsan" >&2; exit 2 ;;
+  demo|test|sanitize) ;;
+  *) echo "usage: $0 demo|test|sanitize" >&2; exit 2 ;;
 esac
 
 packages=(g++ cmake make pkg-config libpng-dev nlohmann-json3-dev libcli11-dev libsdl2-dev libsdl2-ttf-dev
@@ -47,14 +48,14 @@ if [ "$job" = demo ]; then
   build release
   ./build/release/src/tripsitter/cmd/tripsitter render --scene demo --out build/demo.png
   echo "the demo frame is in $(pwd)/build/demo.png"
-elif [ "$job" = tsan ]; then
+elif [ "$job" = sanitize ]; then
+  build asan
+  ctest --preset asan
   build tsan
   ctest --preset tsan
 else
   build release
   ctest --preset release
-  build asan
-  ctest --preset asan
   # Every fuzz target: its saved regressions, then 50,000 executions from its seed corpus (which replays
   # every seed first): 1 min 20 s to 2 min 16 s here with the build, on 2 cores shared with other work. Why it cannot make CI flaky:
   # - the saved regressions and the seeds are replayed as they are, every time;
