@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Set-up on a fresh Debian machine: installs what is missing, builds, and runs one job.
-#   scripts/bootstrap.sh demo   build (release) and render the demo scene through the whole board model
+#   scripts/bootstrap.sh demo       build (release) and render the demo scene through the whole board model
 #   scripts/bootstrap.sh test       build and run the whole test suite in release, then the libFuzzer targets (built
 #                                   with the address and undefined-behaviour sanitizers). What CI runs (.ci/run)
 #   scripts/bootstrap.sh sanitize   build and run the suite under the address+undefined sanitizers (the asan preset),
@@ -24,8 +24,9 @@ packages=(g++ cmake make pkg-config libpng-dev nlohmann-json3-dev libcli11-dev l
           libopenmpi-dev openmpi-bin  # optional: render --mode path under mpirun
           verilator yosys             # optional: the device's RTL (rtl/), simulated and synthesised
 )
-# the libFuzzer targets (scripts/fuzz.sh); the headless browser that looks at explore's report
-[ "$job" != demo ] && packages+=(clang-14 libclang-rt-14-dev chromium)
+# the libFuzzer targets (scripts/fuzz.sh); the headless browser that looks at explore's report, in every test job
+[ "$job" = test ] && packages+=(clang-14 libclang-rt-14-dev)
+[ "$job" != demo ] && packages+=(chromium)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -63,7 +63,6 @@ struct RunResult {
   std::string error;        // a protocol problem (a done pulse with nothing in flight, a pixel never done)
 };
 
-
 // One Verilated worker with scene memory beside it, clocked by hand: inputs are set and the model settled with
 // the clock low (ready, the read port and the done pulse are read then), then the rising edge; scene memory
 // answers a read in the next cycle, as block RAM does.

@@ -38,6 +38,7 @@ class Projection {
     const F8 inf = F8::set1(std::numeric_limits<float>::infinity());
     const F8 nan = F8::set1(std::numeric_limits<float>::quiet_NaN());
     const F8 zero = F8::set1(0), one = F8::set1(1);
+    const F8 magnitude = F8::set1(-0.0f);  // andnot(magnitude, x): |x|
     const Vec3f start = now_.pixel00 + now_.dv * static_cast<float>(row) - now_.origin;
     const Vec3f eye = now_.origin - before_origin_;
     const auto splat = [](const Vec3f& v) { return std::array<F8, 3>{F8::set1(v.x), F8::set1(v.y), F8::set1(v.z)}; };
@@ -49,13 +50,18 @@ class Projection {
     const auto [dux, duy, duz] = splat(du_);
     const auto [dvx, dvy, dvz] = splat(dv_);
     const F8 plane = F8::set1(plane_);
-    alignas(32) float lanes[8];
-    for (int col = 0; col < width; col += 8) {
-      for (int k = 0; k < 8; ++k) lanes[k] = static_cast<float>(col + k);
-      const F8 c = F8::load(lanes);
-      // The last group may reach past the row: its extra lanes see the sky, and are not read.
-      for (int k = 0; k < 8; ++k) lanes[k] = col + k < width ? depth[col + k] : std::numeric_limits<float>::infinity();
-      const F8 d = F8::load(lanes);
+    const F8 eight = F8::set1(8);
+    alignas(32) float lanes[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    F8 c = F8::load(lanes);  // the group's columns (whole numbers, exact in float)
+    for (int col = 0; col < width; col += 8, c = c + eight) {
+      F8 d;
+      if (col + 8 <= width) {
+        d = F8::loadu(depth + col);
+      } else {
+        // The last group reaches past the row: its extra lanes see the sky, and are not read.
+        for (int k = 0; k < 8; ++k) lanes[k] = col + k < width ? depth[col + k] : std::numeric_limits<float>::infinity();
+        d = F8::load(lanes);
+      }
       const F8 rx = sx + ux * c, ry = sy + uy * c, rz = sz + uz * c;
       const F8 inv = one / sqrt(rx * rx + ry * ry + rz * rz);
       const F8 sky = d == inf;
@@ -68,7 +74,6 @@ class Projection {
       const F8 px = fx * scale + cx, py = fy * scale + cy, pz = fz * scale + cz;
       const F8 u = px * dux + py * duy + pz * duz;
       const F8 v = px * dvx + py * dvy + pz * dvz;
-      const F8 magnitude = F8::set1(-0.0f);
       const F8 ok = (along > zero) & (andnot(magnitude, u) < inf) & (andnot(magnitude, v) < inf);
       select(ok, u, nan).storeu(x + col);
       select(ok, v, nan).storeu(y + col);
