@@ -36,6 +36,10 @@ constexpr Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
+// The component-wise product (a colour filtered by a tint).
+template <class T>
+constexpr Vec3<T> hadamard(const Vec3<T>& a, const Vec3<T>& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+
 template <class T>
 T length(const Vec3<T>& v) { return std::sqrt(dot(v, v)); }
 

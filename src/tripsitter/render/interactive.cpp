@@ -39,7 +39,11 @@ const ImageRgbF& InteractivePath::frame(const ThinLensCamera& camera) {
   view_ = view;
   const int step = settings_.row_step;
   const int first = static_cast<int>(frames_ % static_cast<std::uint64_t>(step));
-  render_primary_aovs(scene_, camera, {.width = w, .height = h, .threads = path_.threads}, aovs_);
+  const PrimarySettings primary{.width = w, .height = h, .threads = path_.threads};
+  if (settings_.denoise)
+    render_primary_guides(scene_, camera, primary, settings_.guides, aovs_, guides_);
+  else
+    render_primary_aovs(scene_, camera, primary, aovs_);
   PathSettings s = path_;
   // A pixel's k-th sample is sample k of its sequence (the rows take turns: one sample per `step` frames).
   s.first_sample = static_cast<std::uint32_t>(frames_ / static_cast<std::uint64_t>(step));
@@ -94,12 +98,12 @@ const ImageRgbF& InteractivePath::frame(const ThinLensCamera& camera) {
   bool young = false;
   for (float c : count) young |= c < settings_.spatial_variance_below;
   if (young) {
-    denoiser_.estimate_variance({.width = w, .height = h, .color = picture_.pixels, .variance = {}, .aovs = &aovs_},
+    denoiser_.estimate_variance({.width = w, .height = h, .color = picture_.pixels, .variance = {}, .aovs = &guides_},
                                 settings_.denoiser.variance_radius, path_.threads, spatial_);
     for (std::size_t i = 0; i < count.size(); ++i)
       if (count[i] < settings_.spatial_variance_below) variance_[i] = spatial_[i];
   }
-  denoiser_.denoise({.width = w, .height = h, .color = picture_.pixels, .variance = variance_, .aovs = &aovs_},
+  denoiser_.denoise({.width = w, .height = h, .color = picture_.pixels, .variance = variance_, .aovs = &guides_},
                     settings_.denoiser, picture_.pixels);
   return picture_;
 }

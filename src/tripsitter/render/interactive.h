@@ -10,6 +10,7 @@
 #include <tripsitter/render/camera.h>
 #include <tripsitter/render/denoise.h>
 #include <tripsitter/render/path_tracer.h>
+#include <tripsitter/render/primary.h>
 #include <tripsitter/render/temporal.h>
 
 namespace tripsitter::render {
@@ -25,6 +26,7 @@ struct InteractiveSettings {
   float spatial_variance_below = 4;
   TemporalSettings temporal;
   DenoiseSettings denoiser;
+  GuideSettings guides;  // the denoiser's guides look into mirrors (render_primary_guides)
 };
 
 class InteractivePath {
@@ -46,8 +48,10 @@ class InteractivePath {
   std::uint64_t frames() const { return frames_; }
   // The mean over pixels of the samples their picture holds (after a move, the reprojected share too).
   double mean_samples() const { return mean_samples_; }
-  // The frame's feature buffers (the pixel-centre rays' first hits, render_primary_aovs).
+  // The frame's feature buffers (the pixel-centre rays' first hits, render_primary_aovs), and the denoiser's
+  // guides (what mirrors show: render_primary_guides; filled only while the denoiser is on).
   const Aovs& aovs() const { return aovs_; }
+  const Aovs& guides() const { return guides_; }
 
  private:
   const PathScene& scene_;
@@ -55,7 +59,7 @@ class InteractivePath {
   InteractiveSettings settings_;
   TemporalAccumulator history_;
   Denoiser denoiser_;
-  Aovs aovs_;
+  Aovs aovs_, guides_;
   ImageRgbF pass_;     // the frame's new samples (on the rows it traced)
   ImageRgbF picture_;  // what frame() returns
   std::vector<float> variance_, spatial_;

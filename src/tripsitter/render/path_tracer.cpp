@@ -11,9 +11,9 @@
 namespace tripsitter::render {
 namespace {
 
-Vec3f to_f(const core::Vec3d& v) { return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)}; }
+using core::hadamard;
 
-Vec3f hadamard(const Vec3f& a, const Vec3f& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+Vec3f to_f(const core::Vec3d& v) { return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)}; }
 
 std::vector<Vec3f> centers_of(std::span<const scene::Sphere> spheres) {
   std::vector<Vec3f> c;

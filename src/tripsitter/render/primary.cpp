@@ -46,6 +46,31 @@ Plane plane(const Vec3f& a, const Vec3f& b) {
   return {n, core::length(n)};
 }
 
+bool is_mirror(const PathMaterial& m, const GuideSettings& guide) {
+  return m.type == scene::MaterialType::kMetal && m.fuzz <= guide.max_fuzz;
+}
+
+struct Feature {
+  Vec3f albedo, normal;
+  float depth;
+};
+
+// Follows a unit ray that hit a mirror at `hit` (t a distance) through every further mirror, as
+// render_primary_guides describes.
+Feature follow(const PathScene& scene, Ray ray, SphereHit hit, const GuideSettings& guide) {
+  Vec3f tint{1, 1, 1};
+  float length = 0;
+  for (int bounce = 0;; ++bounce) {
+    const PathMaterial& m = scene.material(hit.sphere);
+    const SurfacePoint s = scene.surface(ray, hit);
+    length += hit.t;
+    tint = core::hadamard(tint, m.albedo);
+    if (!is_mirror(m, guide) || bounce == guide.max_bounces) return {tint, s.normal, length};
+    ray = {s.p, core::normalize(reflect(ray.dir, s.normal))};
+    if (!scene.intersect(ray, kRayEpsilon, kInf, hit)) return {tint, {0, 0, 0}, kInf};
+  }
+}
+
 class Tile {
  public:
   Tile(const PathScene& scene, const ThinLensCamera& camera, int col0, int row0, int width, int height)
@@ -121,8 +146,9 @@ class Tile {
     }
   }
 
-  // Writes the tile's pixels that lie in the image as feature buffers (aov.h): one sample per pixel, its centre.
-  void features(const PathScene& scene, Aovs& aovs) const {
+  // Writes the tile's pixels that lie in the image as feature buffers (aov.h): one sample per pixel, its centre;
+  // with `guides`, the denoiser's guides too (render_primary_guides).
+  void features(const PathScene& scene, Aovs& aovs, Aovs* guides = nullptr, const GuideSettings& guide = {}) const {
     for (int r = 0; r < kTile && row0_ + r < aovs.height; ++r) {
       for (int c = 0; c < kTile && col0_ + c < aovs.width; ++c) {
         const std::size_t i = static_cast<std::size_t>(row0_ + r) * static_cast<std::size_t>(aovs.width) +
@@ -131,6 +157,11 @@ class Tile {
           aovs.albedo[i] = {1, 1, 1};
           aovs.normal[i] = {0, 0, 0};
           aovs.depth[i] = kInf;
+          if (guides != nullptr) {
+            guides->albedo[i] = {1, 1, 1};
+            guides->normal[i] = {0, 0, 0};
+            guides->depth[i] = kInf;
+          }
           continue;
         }
         const std::uint32_t sphere = std::bit_cast<std::uint32_t>(id_[r][c]);
@@ -139,6 +170,17 @@ class Tile {
         aovs.albedo[i] = scene.material(sphere).albedo;
         aovs.normal[i] = core::dot(outward, dir) > 0 ? -outward : outward;
         aovs.depth[i] = t_[r][c] * len_[r][c];
+        if (guides == nullptr) continue;
+        if (!is_mirror(scene.material(sphere), guide)) {
+          guides->albedo[i] = aovs.albedo[i];
+          guides->normal[i] = aovs.normal[i];
+          guides->depth[i] = aovs.depth[i];
+          continue;
+        }
+        const Feature f = follow(scene, {eye_, dir * (1.0f / len_[r][c])}, {t_[r][c] * len_[r][c], sphere}, guide);
+        guides->albedo[i] = f.albedo;
+        guides->normal[i] = f.normal;
+        guides->depth[i] = f.depth;
       }
     }
   }
@@ -214,6 +256,14 @@ void render_primary_aovs(const PathScene& scene, const ThinLensCamera& camera, c
                          Aovs& aovs) {
   if (aovs.width != settings.width || aovs.height != settings.height) aovs = Aovs(settings.width, settings.height);
   trace_tiles(scene, camera, settings, [&](const Tile& tile) { tile.features(scene, aovs); });
+}
+
+void render_primary_guides(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings,
+                           const GuideSettings& guide, Aovs& first_hits, Aovs& guides) {
+  if (first_hits.width != settings.width || first_hits.height != settings.height)
+    first_hits = Aovs(settings.width, settings.height);
+  if (guides.width != settings.width || guides.height != settings.height) guides = Aovs(settings.width, settings.height);
+  trace_tiles(scene, camera, settings, [&](const Tile& tile) { tile.features(scene, first_hits, &guides, guide); });
 }
 
 }  // namespace tripsitter::render

@@ -41,4 +41,24 @@ core::ImageRgb8 render_primary(const PathScene& scene, const ThinLensCamera& cam
 void render_primary_aovs(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings,
                          Aovs& aovs);
 
+// Which surfaces the denoiser's guides look into (render_primary_guides).
+struct GuideSettings {
+  // Metal at most this fuzzy is a mirror: its reflection is sharp enough to have edges worth keeping. Negative:
+  // no surface is, and the guides are the first hits everywhere.
+  float max_fuzz = 0.1f;
+  int max_bounces = 4;  // mirrors followed at most, one after another
+};
+
+// render_primary_aovs's buffers in `first_hits`, and in `guides` the same except where the centre ray first hits
+// a mirror (GuideSettings): there the ray is reflected, from mirror to mirror, until it meets a surface of another
+// kind or the sky, and the guides are that surface's normal (facing the ray; 0 on the sky), the length of the
+// whole chain as depth (infinity on the sky), and its albedo times every mirror's tint on the way (the sky
+// counts as white, as in Aovs). A reflection then has the edges and the paint of what it shows, so the denoiser
+// keeps it sharp and demodulates it as it does the surface itself; with the first hits alone the mirror is one
+// smooth surface to the filter, and the reflected spheres blur away. Glass is not looked through: measured on
+// `field`, following the refracted (or, above a Fresnel reflectance of one half, reflected) ray made the window's
+// pictures worse (docs/denoiser.md). Both buffers are resized to the settings' size.
+void render_primary_guides(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings,
+                           const GuideSettings& guide, Aovs& first_hits, Aovs& guides);
+
 }  // namespace tripsitter::render
