@@ -13,6 +13,8 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <span>
+#include <vector>
 
 #include <tripsitter/core/parallel.h>
 #include <tripsitter/render/simd8.h>
@@ -50,24 +52,60 @@ bool is_mirror(const PathMaterial& m, const GuideSettings& guide) {
   return m.type == scene::MaterialType::kMetal && m.fuzz <= guide.max_fuzz;
 }
 
-struct Feature {
-  Vec3f albedo, normal;
-  float depth;
+// A mirror pixel's centre ray on its way from mirror to mirror (render_primary_guides).
+struct Chain {
+  std::size_t pixel;
+  Ray ray;        // unit direction
+  SphereHit hit;  // where `ray` meets the next surface (t a distance)
+  Vec3f tint;     // the mirrors' albedos so far
+  float length;   // of the chain so far
 };
 
-// Follows a unit ray that hit a mirror at `hit` (t a distance) through every further mirror, as
-// render_primary_guides describes.
-Feature follow(const PathScene& scene, Ray ray, SphereHit hit, const GuideSettings& guide) {
-  Vec3f tint{1, 1, 1};
-  float length = 0;
-  for (int bounce = 0;; ++bounce) {
-    const PathMaterial& m = scene.material(hit.sphere);
-    const SurfacePoint s = scene.surface(ray, hit);
-    length += hit.t;
-    tint = core::hadamard(tint, m.albedo);
-    if (!is_mirror(m, guide) || bounce == guide.max_bounces) return {tint, s.normal, length};
-    ray = {s.p, core::normalize(reflect(ray.dir, s.normal))};
-    if (!scene.intersect(ray, kRayEpsilon, kInf, hit)) return {tint, {0, 0, 0}, kInf};
+// Follows up to Bvh::kWidth chains together, as render_primary_guides describes, and writes their guides: their
+// reflected rays go to the BVH as one packet while most of them live (dead lanes repeat a live lane's ray), else
+// one at a time; either way each ray gets the hit Bvh::intersect gives it.
+void follow(const PathScene& scene, std::span<Chain> chains, const GuideSettings& guide, Aovs& guides) {
+  constexpr int kLanes = Bvh::kWidth;
+  constexpr int kMinPacket = 6;
+  const auto write = [&guides](const Chain& c, const Vec3f& normal, float depth) {
+    guides.albedo[c.pixel] = c.tint;
+    guides.normal[c.pixel] = normal;
+    guides.depth[c.pixel] = depth;
+  };
+  unsigned live = (1u << chains.size()) - 1;
+  for (int bounce = 0; live != 0; ++bounce) {
+    for (unsigned l = live; l != 0; l &= l - 1) {
+      const int k = std::countr_zero(l);
+      Chain& c = chains[static_cast<std::size_t>(k)];
+      const PathMaterial& m = scene.material(c.hit.sphere);
+      const SurfacePoint s = scene.surface(c.ray, c.hit);
+      c.length += c.hit.t;
+      c.tint = core::hadamard(c.tint, m.albedo);
+      if (!is_mirror(m, guide) || bounce == guide.max_bounces) {
+        write(c, s.normal, c.length);
+        live &= ~(1u << k);
+        continue;
+      }
+      c.ray = {s.p, core::normalize(reflect(c.ray.dir, s.normal))};
+    }
+    if (live == 0) break;
+    unsigned found = 0;
+    if (std::popcount(live) >= kMinPacket) {
+      Ray packet[kLanes];
+      SphereHit hits[kLanes];
+      const Ray& spare = chains[static_cast<std::size_t>(std::countr_zero(live))].ray;
+      for (int k = 0; k < kLanes; ++k) packet[k] = live >> k & 1 ? chains[static_cast<std::size_t>(k)].ray : spare;
+      found = scene.bvh().intersect_packet(packet, kRayEpsilon, kInf, hits) & live;
+      for (unsigned l = found; l != 0; l &= l - 1) chains[static_cast<std::size_t>(std::countr_zero(l))].hit = hits[std::countr_zero(l)];
+    } else {
+      for (unsigned l = live; l != 0; l &= l - 1) {
+        Chain& c = chains[static_cast<std::size_t>(std::countr_zero(l))];
+        if (scene.intersect(c.ray, kRayEpsilon, kInf, c.hit)) found |= 1u << std::countr_zero(l);
+      }
+    }
+    // The sky: white, seen through every mirror's tint.
+    for (unsigned l = live & ~found; l != 0; l &= l - 1) write(chains[static_cast<std::size_t>(std::countr_zero(l))], {0, 0, 0}, kInf);
+    live = found;
   }
 }
 
@@ -149,6 +187,8 @@ class Tile {
   // Writes the tile's pixels that lie in the image as feature buffers (aov.h): one sample per pixel, its centre;
   // with `guides`, the denoiser's guides too (render_primary_guides).
   void features(const PathScene& scene, Aovs& aovs, Aovs* guides = nullptr, const GuideSettings& guide = {}) const {
+    thread_local std::vector<Chain> chains;  // the tile's mirror pixels (guides only)
+    chains.clear();
     for (int r = 0; r < kTile && row0_ + r < aovs.height; ++r) {
       for (int c = 0; c < kTile && col0_ + c < aovs.width; ++c) {
         const std::size_t i = static_cast<std::size_t>(row0_ + r) * static_cast<std::size_t>(aovs.width) +
@@ -177,12 +217,11 @@ class Tile {
           guides->depth[i] = aovs.depth[i];
           continue;
         }
-        const Feature f = follow(scene, {eye_, dir * (1.0f / len_[r][c])}, {t_[r][c] * len_[r][c], sphere}, guide);
-        guides->albedo[i] = f.albedo;
-        guides->normal[i] = f.normal;
-        guides->depth[i] = f.depth;
+        chains.push_back({i, {eye_, dir * (1.0f / len_[r][c])}, {t_[r][c] * len_[r][c], sphere}, {1, 1, 1}, 0});
       }
     }
+    for (std::size_t k = 0; k < chains.size(); k += Bvh::kWidth)
+      follow(scene, std::span(chains).subspan(k, std::min<std::size_t>(Bvh::kWidth, chains.size() - k)), guide, *guides);
   }
 
  private:
