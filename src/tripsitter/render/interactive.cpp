@@ -1,5 +1,8 @@
 #include <tripsitter/render/interactive.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include <tripsitter/core/parallel.h>
 #include <tripsitter/render/primary.h>
 
@@ -55,21 +58,34 @@ const ImageRgbF& InteractivePath::frame(const ThinLensCamera& camera) {
   // the mean of the nearest pixels above and below that have one.
   const std::span<const Vec3f> sum = history_.sum();
   const std::span<const float> count = history_.count();
-  std::vector<double> row_samples(static_cast<std::size_t>(h));
-  bool holes = false;
-  core::parallel_for(0, h, path_.threads, [&](int row) {
+  // Per row: its samples, and whether it has a pixel without any (a hole) or with too few to know its own
+  // variance (a young one).
+  struct RowTally {
     double samples = 0;
+    bool holes = false, young = false;
+  };
+  std::vector<RowTally> rows(static_cast<std::size_t>(h));
+  const float young_below = settings_.spatial_variance_below;
+  core::parallel_for(0, h, path_.threads, [&](int row) {
+    RowTally t;
     for (int col = 0; col < w; ++col) {
       const std::size_t i = static_cast<std::size_t>(row) * static_cast<std::size_t>(w) + static_cast<std::size_t>(col);
-      samples += count[i];
-      picture_.pixels[i] = count[i] > 0 ? sum[i] * (1.0f / count[i]) : Vec3f{};
+      const float n = count[i];
+      t.samples += n;
+      t.holes |= !(n > 0);
+      t.young |= n < young_below;
+      picture_.pixels[i] = n > 0 ? sum[i] * (1.0f / n) : Vec3f{};
     }
-    row_samples[static_cast<std::size_t>(row)] = samples;
+    rows[static_cast<std::size_t>(row)] = t;
   });
   double total = 0;
-  for (double r : row_samples) total += r;
+  bool holes = false, young = false;
+  for (const RowTally& t : rows) {
+    total += t.samples;
+    holes |= t.holes;
+    young |= t.young;
+  }
   mean_samples_ = total / static_cast<double>(Aovs::pixels(w, h));
-  for (float c : count) holes |= !(c > 0);
   if (holes) {
     for (int row = 0; row < h; ++row) {
       for (int col = 0; col < w; ++col) {
@@ -95,16 +111,21 @@ const ImageRgbF& InteractivePath::frame(const ThinLensCamera& camera) {
 
   // Each pixel's variance from its own samples where it has enough of them, else from its neighbours'.
   history_.mean_variance(variance_);
-  bool young = false;
-  for (float c : count) young |= c < settings_.spatial_variance_below;
   if (young) {
     denoiser_.estimate_variance({.width = w, .height = h, .color = picture_.pixels, .variance = {}, .aovs = &guides_},
                                 settings_.denoiser.variance_radius, path_.threads, spatial_);
-    for (std::size_t i = 0; i < count.size(); ++i)
-      if (count[i] < settings_.spatial_variance_below) variance_[i] = spatial_[i];
+    core::parallel_for(0, h, path_.threads, [&](int row) {
+      const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(w);
+      for (std::size_t i = first; i < first + static_cast<std::size_t>(w); ++i)
+        if (count[i] < young_below) variance_[i] = spatial_[i];
+    });
   }
+  // The luminance term stops the filter more sharply as samples gather (InteractiveSettings).
+  DenoiseSettings filter = settings_.denoiser;
+  filter.sigma_luminance = std::max(settings_.sigma_luminance_min,
+                                    settings_.sigma_luminance_1spp / static_cast<float>(std::sqrt(std::max(mean_samples_, 1.0))));
   denoiser_.denoise({.width = w, .height = h, .color = picture_.pixels, .variance = variance_, .aovs = &guides_},
-                    settings_.denoiser, picture_.pixels);
+                    filter, picture_.pixels);
   return picture_;
 }
 

@@ -24,8 +24,14 @@ struct InteractiveSettings {
   // Where a pixel's history holds fewer samples than this, its variance is estimated from its neighbours
   // (too few samples say little about their own spread).
   float spatial_variance_below = 4;
+  // The filter's luminance term by the samples gathered: each frame's sigma_luminance (DenoiseSettings) is
+  // sigma_luminance_1spp / sqrt(mean samples per pixel), at least sigma_luminance_min. With few samples the
+  // filter has to smooth hard to hide the noise; with many, the picture itself is mostly right and a sharper
+  // stop keeps its detail (docs/denoiser.md has the figures this was chosen by).
+  float sigma_luminance_1spp = 8;
+  float sigma_luminance_min = 1;
   TemporalSettings temporal;
-  DenoiseSettings denoiser;
+  DenoiseSettings denoiser;  // its sigma_luminance is set each frame, as above
   GuideSettings guides;  // the denoiser's guides look into mirrors (render_primary_guides)
 };
 

@@ -106,5 +106,30 @@ TEST(Interactive, RestartForgetsTheHistory) {
   EXPECT_DOUBLE_EQ(loop.mean_samples(), 1.0);
 }
 
+// The filter's luminance term tightens as samples gather (sigma_luminance_1spp / sqrt(samples)): on the first
+// frame the schedule filters as a constant sigma of sigma_luminance_1spp does, bit for bit; after 32 frames the
+// picture stays closer to what plain accumulation gives than under that constant sigma.
+TEST(Interactive, TheFilterLetsMoreThroughAsSamplesGather) {
+  const Field f;
+  InteractiveSettings constant;
+  constant.sigma_luminance_min = constant.sigma_luminance_1spp;
+  InteractivePath scheduled(f.scene, f.path(), InteractiveSettings{}), fixed(f.scene, f.path(), constant),
+      accumulated(f.scene, f.path(), plain());
+  EXPECT_EQ(scheduled.frame(f.camera()).pixels, fixed.frame(f.camera()).pixels);
+  accumulated.frame(f.camera());
+  std::vector<Vec3f> a, b, c;
+  for (int k = 1; k < 32; ++k) {
+    a = scheduled.frame(f.camera()).pixels;
+    b = fixed.frame(f.camera()).pixels;
+    c = accumulated.frame(f.camera()).pixels;
+  }
+  const auto distance = [&c](const std::vector<Vec3f>& picture) {
+    double d = 0;
+    for (std::size_t i = 0; i < c.size(); ++i) d += static_cast<double>(core::length(picture[i] - c[i]));
+    return d / static_cast<double>(c.size());
+  };
+  EXPECT_LT(distance(a), 0.8 * distance(b));
+}
+
 }  // namespace
 }  // namespace tripsitter::render

@@ -127,7 +127,11 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
     const float low = 1 - settings_.depth_tolerance, high = 1 + settings_.depth_tolerance;
     // The previous pass's means per sample: one division per pixel here rather than one per tap below.
     inverse_count_.resize(n);
-    for (std::size_t j = 0; j < n; ++j) inverse_count_[j] = count_[j] > 0 ? 1.0f / count_[j] : 0.0f;
+    core::parallel_for(0, h, settings_.threads, [&](int row) {
+      const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(w);
+      for (std::size_t j = first; j < first + static_cast<std::size_t>(w); ++j)
+        inverse_count_[j] = count_[j] > 0 ? 1.0f / count_[j] : 0.0f;
+    });
     std::vector<std::size_t> carried(static_cast<std::size_t>(h));
     core::parallel_for(0, h, settings_.threads, [&](int row) {
       thread_local std::vector<float> scratch;
@@ -203,20 +207,28 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
     for (std::size_t c : carried) reprojected_ += c;
   }
   view_ = view;
-  normal_.assign(aovs.normal.begin(), aovs.normal.end());
-  depth_.assign(aovs.depth.begin(), aovs.depth.end());
+  normal_.resize(n);
+  depth_.resize(n);
+  core::parallel_for(0, h, settings_.threads, [&](int row) {
+    const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(w);
+    std::copy_n(aovs.normal.begin() + static_cast<std::ptrdiff_t>(first), w, normal_.begin() + static_cast<std::ptrdiff_t>(first));
+    std::copy_n(aovs.depth.begin() + static_cast<std::ptrdiff_t>(first), w, depth_.begin() + static_cast<std::ptrdiff_t>(first));
+  });
 }
 
 void TemporalAccumulator::mean_variance(std::span<float> out) const {
-  for (std::size_t i = 0; i < count_.size(); ++i) {
-    const float n = count_[i];
-    if (!(n > 1)) {
-      out[i] = 0;
-      continue;
+  core::parallel_for(0, height_, settings_.threads, [&](int row) {
+    const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(width_);
+    for (std::size_t i = first; i < first + static_cast<std::size_t>(width_); ++i) {
+      const float n = count_[i];
+      if (!(n > 1)) {
+        out[i] = 0;
+        continue;
+      }
+      const float l = luminance(sum_[i] / n);
+      out[i] = std::max(0.0f, square_sum_[i] / n - l * l) / n;
     }
-    const float l = luminance(sum_[i] / n);
-    out[i] = std::max(0.0f, square_sum_[i] / n - l * l) / n;
-  }
+  });
 }
 
 }  // namespace tripsitter::render
