@@ -122,8 +122,8 @@ const ImageRgbF& InteractivePath::frame(const ThinLensCamera& camera) {
   }
   // The luminance term stops the filter more sharply as samples gather (InteractiveSettings).
   DenoiseSettings filter = settings_.denoiser;
-  filter.sigma_luminance = std::max(settings_.sigma_luminance_min,
-                                    settings_.sigma_luminance_1spp / static_cast<float>(std::sqrt(std::max(mean_samples_, 1.0))));
+  const float samples = static_cast<float>(std::max(mean_samples_, 1.0));
+  filter.sigma_luminance = std::max(settings_.sigma_luminance_min, settings_.sigma_luminance_1spp / std::sqrt(samples));
   denoiser_.denoise({.width = w, .height = h, .color = picture_.pixels, .variance = variance_, .aovs = &guides_},
                     filter, picture_.pixels);
   return picture_;

@@ -72,11 +72,15 @@ void follow(const PathScene& scene, std::span<Chain> chains, const GuideSettings
     guides.normal[c.pixel] = normal;
     guides.depth[c.pixel] = depth;
   };
+  // The chain of a mask's lowest lane.
+  const auto lane = [&chains](unsigned mask) -> Chain& {
+    return chains[static_cast<std::size_t>(std::countr_zero(mask))];
+  };
   unsigned live = (1u << chains.size()) - 1;
   for (int bounce = 0; live != 0; ++bounce) {
     for (unsigned l = live; l != 0; l &= l - 1) {
       const int k = std::countr_zero(l);
-      Chain& c = chains[static_cast<std::size_t>(k)];
+      Chain& c = lane(l);
       const PathMaterial& m = scene.material(c.hit.sphere);
       const SurfacePoint s = scene.surface(c.ray, c.hit);
       c.length += c.hit.t;
@@ -93,20 +97,24 @@ void follow(const PathScene& scene, std::span<Chain> chains, const GuideSettings
     if (std::popcount(live) >= kMinPacket) {
       Ray packet[kLanes];
       SphereHit hits[kLanes];
-      const Ray& spare = chains[static_cast<std::size_t>(std::countr_zero(live))].ray;
+      const Ray& spare = lane(live).ray;
       for (int k = 0; k < kLanes; ++k) packet[k] = live >> k & 1 ? chains[static_cast<std::size_t>(k)].ray : spare;
       found = scene.bvh().intersect_packet(packet, kRayEpsilon, kInf, hits) & live;
-      for (unsigned l = found; l != 0; l &= l - 1) chains[static_cast<std::size_t>(std::countr_zero(l))].hit = hits[std::countr_zero(l)];
+      for (unsigned l = found; l != 0; l &= l - 1) lane(l).hit = hits[std::countr_zero(l)];
     } else {
-      for (unsigned l = live; l != 0; l &= l - 1) {
-        Chain& c = chains[static_cast<std::size_t>(std::countr_zero(l))];
-        if (scene.intersect(c.ray, kRayEpsilon, kInf, c.hit)) found |= 1u << std::countr_zero(l);
-      }
+      for (unsigned l = live; l != 0; l &= l - 1)
+        if (scene.intersect(lane(l).ray, kRayEpsilon, kInf, lane(l).hit)) found |= 1u << std::countr_zero(l);
     }
     // The sky: white, seen through every mirror's tint.
-    for (unsigned l = live & ~found; l != 0; l &= l - 1) write(chains[static_cast<std::size_t>(std::countr_zero(l))], {0, 0, 0}, kInf);
+    for (unsigned l = live & ~found; l != 0; l &= l - 1) write(lane(l), {0, 0, 0}, kInf);
     live = found;
   }
+}
+
+// The mirror pixels of the band of tiles this thread traces (render_primary_guides).
+std::vector<Chain>& band_mirrors() {
+  thread_local std::vector<Chain> mirrors;
+  return mirrors;
 }
 
 class Tile {
@@ -184,11 +192,10 @@ class Tile {
     }
   }
 
-  // Writes the tile's pixels that lie in the image as feature buffers (aov.h): one sample per pixel, its centre;
-  // with `guides`, the denoiser's guides too (render_primary_guides).
-  void features(const PathScene& scene, Aovs& aovs, Aovs* guides = nullptr, const GuideSettings& guide = {}) const {
-    thread_local std::vector<Chain> chains;  // the tile's mirror pixels (guides only)
-    chains.clear();
+  // Writes the tile's pixels that lie in the image as feature buffers (aov.h): one sample per pixel, its centre.
+  // With `mirrors`, the pixels whose first hit is a mirror (GuideSettings) are added to it as chains to follow.
+  void features(const PathScene& scene, Aovs& aovs, std::vector<Chain>* mirrors = nullptr,
+                const GuideSettings& guide = {}) const {
     for (int r = 0; r < kTile && row0_ + r < aovs.height; ++r) {
       for (int c = 0; c < kTile && col0_ + c < aovs.width; ++c) {
         const std::size_t i = static_cast<std::size_t>(row0_ + r) * static_cast<std::size_t>(aovs.width) +
@@ -197,11 +204,6 @@ class Tile {
           aovs.albedo[i] = {1, 1, 1};
           aovs.normal[i] = {0, 0, 0};
           aovs.depth[i] = kInf;
-          if (guides != nullptr) {
-            guides->albedo[i] = {1, 1, 1};
-            guides->normal[i] = {0, 0, 0};
-            guides->depth[i] = kInf;
-          }
           continue;
         }
         const std::uint32_t sphere = std::bit_cast<std::uint32_t>(id_[r][c]);
@@ -210,18 +212,10 @@ class Tile {
         aovs.albedo[i] = scene.material(sphere).albedo;
         aovs.normal[i] = core::dot(outward, dir) > 0 ? -outward : outward;
         aovs.depth[i] = t_[r][c] * len_[r][c];
-        if (guides == nullptr) continue;
-        if (!is_mirror(scene.material(sphere), guide)) {
-          guides->albedo[i] = aovs.albedo[i];
-          guides->normal[i] = aovs.normal[i];
-          guides->depth[i] = aovs.depth[i];
-          continue;
-        }
-        chains.push_back({i, {eye_, dir * (1.0f / len_[r][c])}, {t_[r][c] * len_[r][c], sphere}, {1, 1, 1}, 0});
+        if (mirrors != nullptr && is_mirror(scene.material(sphere), guide))
+          mirrors->push_back({i, {eye_, dir * (1.0f / len_[r][c])}, {t_[r][c] * len_[r][c], sphere}, {1, 1, 1}, 0});
       }
     }
-    for (std::size_t k = 0; k < chains.size(); k += Bvh::kWidth)
-      follow(scene, std::span(chains).subspan(k, std::min<std::size_t>(Bvh::kWidth, chains.size() - k)), guide, *guides);
   }
 
  private:
@@ -267,10 +261,11 @@ class Tile {
   float limit_ = kInf;
 };
 
-// Walks the BVH once per tile of the image, on the settings' threads, and hands each finished tile to `done`.
-template <class Done>
+// Walks the BVH once per tile of the image, on the settings' threads, and hands each finished tile to `done`;
+// after the last tile of each band of kTile rows, calls band(first row, rows in the band) on the same thread.
+template <class Done, class Band>
 void trace_tiles(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings,
-                 const Done& done) {
+                 const Done& done, const Band& band) {
   const int tiles_x = (settings.width + kTile - 1) / kTile;
   core::parallel_for(0, (settings.height + kTile - 1) / kTile, settings.threads, [&](int tile_row) {
     for (int tx = 0; tx < tiles_x; ++tx) {
@@ -280,7 +275,14 @@ void trace_tiles(const PathScene& scene, const ThinLensCamera& camera, const Pri
                            [&](const Bvh::Leaf& leaf, std::uint32_t n) { tile.leaf(leaf, n); });
       done(tile);
     }
+    band(tile_row * kTile, std::min(kTile, settings.height - tile_row * kTile));
   });
+}
+
+template <class Done>
+void trace_tiles(const PathScene& scene, const ThinLensCamera& camera, const PrimarySettings& settings,
+                 const Done& done) {
+  trace_tiles(scene, camera, settings, done, [](int, int) {});
 }
 
 }  // namespace
@@ -301,8 +303,26 @@ void render_primary_guides(const PathScene& scene, const ThinLensCamera& camera,
                            const GuideSettings& guide, Aovs& first_hits, Aovs& guides) {
   if (first_hits.width != settings.width || first_hits.height != settings.height)
     first_hits = Aovs(settings.width, settings.height);
-  if (guides.width != settings.width || guides.height != settings.height) guides = Aovs(settings.width, settings.height);
-  trace_tiles(scene, camera, settings, [&](const Tile& tile) { tile.features(scene, first_hits, &guides, guide); });
+  if (guides.width != settings.width || guides.height != settings.height)
+    guides = Aovs(settings.width, settings.height);
+  // A band's guides are its first hits, copied row after row once its tiles are done (faster than writing them
+  // pixel by pixel in the tiles' order), and then, on its mirror pixels, the ends of their chains.
+  trace_tiles(
+      scene, camera, settings,
+      [&](const Tile& tile) { tile.features(scene, first_hits, &band_mirrors(), guide); },
+      [&](int row, int rows) {
+        const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(settings.width);
+        const std::size_t n = static_cast<std::size_t>(rows) * static_cast<std::size_t>(settings.width);
+        std::copy_n(first_hits.albedo.data() + first, n, guides.albedo.data() + first);
+        std::copy_n(first_hits.normal.data() + first, n, guides.normal.data() + first);
+        std::copy_n(first_hits.depth.data() + first, n, guides.depth.data() + first);
+        std::vector<Chain>& mirrors = band_mirrors();
+        for (std::size_t k = 0; k < mirrors.size(); k += Bvh::kWidth) {
+          const std::size_t lanes = std::min<std::size_t>(Bvh::kWidth, mirrors.size() - k);
+          follow(scene, std::span(mirrors).subspan(k, lanes), guide, guides);
+        }
+        mirrors.clear();
+      });
 }
 
 }  // namespace tripsitter::render

@@ -211,8 +211,8 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
   depth_.resize(n);
   core::parallel_for(0, h, settings_.threads, [&](int row) {
     const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(w);
-    std::copy_n(aovs.normal.begin() + static_cast<std::ptrdiff_t>(first), w, normal_.begin() + static_cast<std::ptrdiff_t>(first));
-    std::copy_n(aovs.depth.begin() + static_cast<std::ptrdiff_t>(first), w, depth_.begin() + static_cast<std::ptrdiff_t>(first));
+    std::copy_n(aovs.normal.data() + first, w, normal_.data() + first);
+    std::copy_n(aovs.depth.data() + first, w, depth_.data() + first);
   });
 }
 
