@@ -31,6 +31,9 @@ constexpr float kDepthRelative = 1e-3f;
 constexpr float kSlopeJump = 8.0f;
 // Keeps the luminance scale positive where the variance is 0: only neighbours of exactly equal luminance mix.
 constexpr float kLuminanceEpsilon = 1e-10f;
+// The luminance the first pass compares is prefiltered over the 3x3 neighbours whose depth key is within this
+// fraction of the centre's (the same surface, or both sky).
+constexpr float kPrefilterDepth = 0.05f;
 // Weights 2^-a are exactly 0 from a = kCutoff on.
 constexpr float kCutoff = 60.0f;
 // The plain loops below (the variance estimate) go in blocks of this many pixels of a row, which the compiler
@@ -474,6 +477,37 @@ void Denoiser::denoise(const DenoiseInput& input, const DenoiseSettings& setting
     rows[kVarianceA][-1] = rows[kVarianceA][0];
     rows[kVarianceA][w] = rows[kVarianceA][w - 1];
   });
+
+  // The luminance the first pass compares: each pixel's mean over its 3x3 neighbours (1 2 1 by 1 2 1) of the same
+  // surface, so that single samples are not sorted into bright and dark ones (docs/denoiser.md, step 3).
+  // Written into B's luminance plane, which the first pass overwrites, and copied back once every row is done.
+  core::parallel_for(0, h, threads, [&](int y) {
+    const float *l_rows[3], *z_rows[3];
+    for (int k = 0; k < 3; ++k) {
+      const int yq = y + k - 1;
+      l_rows[k] = p.row(kLuminanceA, yq >= 0 && yq < h ? yq : h);  // outside the image: the blank row
+      z_rows[k] = p.row(kZ, yq >= 0 && yq < h ? yq : h);
+    }
+    const float* zc_row = p.row(kZ, y);
+    float* out_row = p.row(kLuminanceB, y);
+    const Lanes zero = Lanes::set1(0.0f), tolerance = Lanes::set1(kPrefilterDepth);
+    for (int x = 0; x < w; x += kWidth) {
+      const Lanes zc = Lanes::load(zc_row + x);
+      const Lanes near = tolerance * abs(zc);
+      Lanes sum = zero, weight = zero;
+      for (int dy = 0; dy < 3; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const Lanes kernel = Lanes::set1((dy == 1 ? 2.0f : 1.0f) * (dx == 0 ? 2.0f : 1.0f));
+          // The centre always counts (its difference is 0); the blank padding never does.
+          const Lanes k = select(abs(Lanes::load(z_rows[dy] + x + dx) - zc) < near, kernel, zero);
+          sum = sum + k * Lanes::load(l_rows[dy] + x + dx);
+          weight = weight + k;
+        }
+      }
+      store(sum / weight, out_row + x, w - x);
+    }
+  });
+  core::parallel_for(0, h, threads, [&](int y) { std::copy_n(p.row(kLuminanceB, y), w, p.row(kLuminanceA, y)); });
 
   // The eight taps around the centre of the 3x3 kernel (1 2 1 by 1 2 1, centre weight 1 here, so edges 1/2 and
   // corners 1/4: the exponents 1 and 2 below), in a fixed order.

@@ -35,8 +35,9 @@ struct DenoiseSettings {
   // the set-up about 1 ms (docs/denoiser.md).
   int iterations = 3;
   // How many standard deviations of a pixel's (filtered) luminance noise a neighbour's luminance may differ by
-  // before its weight drops to exp(-1). Larger: smoother, and more detail lost.
-  float sigma_luminance = 4.0f;
+  // before its weight drops to exp(-1); the first pass compares luminances prefiltered over 3x3 pixels, whose
+  // differences are smaller than the noise. Larger: smoother, and more detail lost.
+  float sigma_luminance = 2.0f;
   // Normal weight exp(-sigma_normal (1 - n_p . n_q)) (to first order SVGF's (n_p . n_q)^sigma_normal): 32
   // gives a neighbour whose normal is 10 degrees off 0.6 of the weight, 30 degrees off 0.014, 45 degrees off 1e-4.
   float sigma_normal = 32.0f;

@@ -28,8 +28,8 @@ struct InteractiveSettings {
   // sigma_luminance_1spp / sqrt(mean samples per pixel), at least sigma_luminance_min. With few samples the
   // filter has to smooth hard to hide the noise; with many, the picture itself is mostly right and a sharper
   // stop keeps its detail (docs/denoiser.md has the figures this was chosen by).
-  float sigma_luminance_1spp = 8;
-  float sigma_luminance_min = 1;
+  float sigma_luminance_1spp = 4;
+  float sigma_luminance_min = 0.5f;
   TemporalSettings temporal;
   DenoiseSettings denoiser;  // its sigma_luminance is set each frame, as above
   GuideSettings guides;  // the denoiser's guides look into mirrors (render_primary_guides)
