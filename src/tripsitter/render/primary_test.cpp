@@ -85,10 +85,6 @@ TEST(Primary, MissesAreBlackAndHitsAreNot) {
   EXPECT_NEAR(img.pixels[centre], 127, 10);
 }
 
-}  // namespace tripsitter::render
-
-namespace tripsitter::render {
-
 TEST(Primary, FeatureBuffersAreTheCentreRaysFirstHits) {
   for (const char* name : {"cluster", "field"}) {
     const scene::Scene sc = *scene::builtin(name);
