@@ -17,6 +17,7 @@
 // one of its box's faces (the hit may be dropped).
 #pragma once
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -61,6 +62,14 @@ class Bvh {
   // rays, or start near each other, such as their bounces: they share one walk of the tree and each step serves
   // all of them.
   unsigned intersect_packet(const Ray (&rays)[kWidth], float t_min, float t_max, SphereHit (&hits)[kWidth]) const;
+
+  // The closest hits of the rays of the lanes in `live` (bit k: rays[k]), each as intersect finds it: one packet
+  // while kMinPacket or more lanes live (dead lanes trace a copy of a live lane's ray), else ray by ray. Returns the
+  // lanes that hit, a subset of `live`; hits[k] holds the hit of each. For rays that started near each other, such
+  // as a group's bounces, after some of them ended.
+  static constexpr int kMinPacket = 6;  // on `field`'s bounced rays, 4 traced slower and 8 no faster
+  unsigned intersect_live(unsigned live, const Ray (&rays)[kWidth], float t_min, float t_max,
+                          SphereHit (&hits)[kWidth]) const;
 
   std::size_t sphere_count() const;
   std::size_t node_count() const;
@@ -136,6 +145,23 @@ void Bvh::traverse(Reach&& reach, Limit&& limit, LeafVisit&& leaf) const {
     }
     for (int j = 0; j < hits; ++j) stack[size++] = {n.first[order[j]], n.count[order[j]], distance[order[j]]};
   }
+}
+
+// Inline: the path tracer calls it once per round of bounces of a group.
+inline unsigned Bvh::intersect_live(unsigned live, const Ray (&rays)[kWidth], float t_min, float t_max,
+                                    SphereHit (&hits)[kWidth]) const {
+  if (std::popcount(live) < kMinPacket) {
+    unsigned found = 0;
+    for (; live != 0; live &= live - 1) {
+      const int i = std::countr_zero(live);
+      found |= intersect(rays[i], t_min, t_max, hits[i]) ? 1u << i : 0u;
+    }
+    return found;
+  }
+  const Ray& spare = rays[std::countr_zero(live)];
+  Ray packet[kWidth];
+  for (int i = 0; i < kWidth; ++i) packet[i] = live >> i & 1 ? rays[i] : spare;
+  return intersect_packet(packet, t_min, t_max, hits) & live;
 }
 
 }  // namespace tripsitter::render

@@ -90,7 +90,6 @@ Vec3f trace_path_over(const PathScene& scene, const Query& query, Ray ray, int m
 // near each other, so their walks share most nodes and leaves, and one packet walk costs less than their separate
 // walks. Fewer live paths go one at a time.
 constexpr int kGroup = Bvh::kWidth;
-constexpr int kMinPacket = 6;  // live paths for a packet: on `field`, 4 traced slower and 8 no faster
 
 // The hits of the rays of the live lanes, one ray at a time.
 template <class Query>
@@ -103,14 +102,10 @@ unsigned hits_one_by_one(const Query& query, unsigned live, const Ray (&rays)[kG
   return found;
 }
 
-// The hits of the bounced rays of the live lanes: one packet for the BVH while kMinPacket lanes live (dead lanes
-// trace a copy of a live lane's ray), else ray by ray.
+// The hits of the bounced rays of the live lanes: a packet for the BVH while Bvh::kMinPacket lanes live, else ray by
+// ray (Bvh::intersect_live).
 unsigned next_hits(const Bvh& bvh, unsigned live, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {
-  if (std::popcount(live) < kMinPacket) return hits_one_by_one(bvh, live, rays, hits);
-  const Ray& spare = rays[std::countr_zero(live)];
-  Ray packet[kGroup];
-  for (int i = 0; i < kGroup; ++i) packet[i] = live >> i & 1 ? rays[i] : spare;
-  return bvh.intersect_packet(packet, kRayEpsilon, INFINITY, hits) & live;
+  return bvh.intersect_live(live, rays, kRayEpsilon, INFINITY, hits);
 }
 
 unsigned next_hits(const HitQuery& query, unsigned live, const Ray (&rays)[kGroup], SphereHit (&hits)[kGroup]) {

@@ -61,26 +61,21 @@ struct Chain {
   float length;   // of the chain so far
 };
 
-// Follows up to Bvh::kWidth chains together, as render_primary_guides describes, and writes their guides: their
-// reflected rays go to the BVH as one packet while most of them live (dead lanes repeat a live lane's ray), else
-// one at a time; either way each ray gets the hit Bvh::intersect gives it.
+// Follows up to Bvh::kWidth chains together, as render_primary_guides describes, and writes their guides; their
+// reflected rays go to the BVH together (Bvh::intersect_live).
 void follow(const PathScene& scene, std::span<Chain> chains, const GuideSettings& guide, Aovs& guides) {
-  constexpr int kLanes = Bvh::kWidth;
-  constexpr int kMinPacket = 6;
+  Ray rays[Bvh::kWidth];
+  SphereHit hits[Bvh::kWidth];
   const auto write = [&guides](const Chain& c, const Vec3f& normal, float depth) {
     guides.albedo[c.pixel] = c.tint;
     guides.normal[c.pixel] = normal;
     guides.depth[c.pixel] = depth;
   };
-  // The chain of a mask's lowest lane.
-  const auto lane = [&chains](unsigned mask) -> Chain& {
-    return chains[static_cast<std::size_t>(std::countr_zero(mask))];
-  };
   unsigned live = (1u << chains.size()) - 1;
   for (int bounce = 0; live != 0; ++bounce) {
     for (unsigned l = live; l != 0; l &= l - 1) {
       const int k = std::countr_zero(l);
-      Chain& c = lane(l);
+      Chain& c = chains[static_cast<std::size_t>(k)];
       const PathMaterial& m = scene.material(c.hit.sphere);
       const SurfacePoint s = scene.surface(c.ray, c.hit);
       c.length += c.hit.t;
@@ -90,23 +85,17 @@ void follow(const PathScene& scene, std::span<Chain> chains, const GuideSettings
         live &= ~(1u << k);
         continue;
       }
-      c.ray = {s.p, core::normalize(reflect(c.ray.dir, s.normal))};
+      c.ray = rays[k] = {s.p, core::normalize(reflect(c.ray.dir, s.normal))};
     }
-    if (live == 0) break;
-    unsigned found = 0;
-    if (std::popcount(live) >= kMinPacket) {
-      Ray packet[kLanes];
-      SphereHit hits[kLanes];
-      const Ray& spare = lane(live).ray;
-      for (int k = 0; k < kLanes; ++k) packet[k] = live >> k & 1 ? chains[static_cast<std::size_t>(k)].ray : spare;
-      found = scene.bvh().intersect_packet(packet, kRayEpsilon, kInf, hits) & live;
-      for (unsigned l = found; l != 0; l &= l - 1) lane(l).hit = hits[std::countr_zero(l)];
-    } else {
-      for (unsigned l = live; l != 0; l &= l - 1)
-        if (scene.intersect(lane(l).ray, kRayEpsilon, kInf, lane(l).hit)) found |= 1u << std::countr_zero(l);
+    const unsigned found = scene.bvh().intersect_live(live, rays, kRayEpsilon, kInf, hits);
+    for (unsigned l = live; l != 0; l &= l - 1) {
+      const int k = std::countr_zero(l);
+      Chain& c = chains[static_cast<std::size_t>(k)];
+      if (found >> k & 1)
+        c.hit = hits[k];
+      else
+        write(c, {0, 0, 0}, kInf);  // the sky: white, seen through every mirror's tint
     }
-    // The sky: white, seen through every mirror's tint.
-    for (unsigned l = live & ~found; l != 0; l &= l - 1) write(lane(l), {0, 0, 0}, kInf);
     live = found;
   }
 }
