@@ -293,6 +293,25 @@ KernelRay<typename Arith::Wide> reflect(const Arith& arith, const KernelRay<type
   return {p, Arith::scale_direction(r)};
 }
 
+// The mirror model's colour after k reflections: channel = floor(base * prod(albedo) / 255^k) over the metals
+// reflected off (tint = prod(albedo) per channel, tint_scale = 255^k), exact in integers; base itself when
+// nothing was reflected (tint_scale 1).
+template <class Arith>
+Rgb444 tint_colour(const Arith& arith, Rgb444 base, const std::array<typename Arith::Wide, 3>& tint,
+                   typename Arith::Wide tint_scale) {
+  using Wide = typename Arith::Wide;
+  if (tint_scale == Wide(1)) return base;
+  const std::array<int, 3> channels{base.r(), base.g(), base.b()};
+  std::array<int, 3> mixed{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Wide tinted = Wide(channels[k]) * tint[k];
+    check_width(arith, tinted, Width::kTint);
+    check_width(arith, tint_scale, Width::kTint);
+    mixed[k] = std::clamp(Arith::floor_div(tinted, tint_scale), 0, 15);
+  }
+  return Rgb444::from_channels(mixed[0], mixed[1], mixed[2]);
+}
+
 // The colour of the camera's ray along d in the mirror model, with the closest-hit search supplied:
 // closest(ray, excluded, pass) must return closest_hit(arith, ray, spheres, excluded) for an Arith of this
 // Wide, where pass is 0 for the camera's ray and k after k reflections. surface_of(i) gives sphere i's
@@ -324,16 +343,7 @@ PixelTrace trace_pixel_with(const Arith& arith, const Vec3<typename Arith::Wide>
     for (std::size_t k = 0; k < 3; ++k) tint[k] = tint[k] * Wide(surface.albedo[k]);
     tint_scale = tint_scale * Wide(255);
   }
-  if (bounces == 0) return {base, 0};
-  const std::array<int, 3> channels{base.r(), base.g(), base.b()};
-  std::array<int, 3> mixed{};
-  for (std::size_t k = 0; k < 3; ++k) {
-    const Wide tinted = Wide(channels[k]) * tint[k];
-    check_width(arith, tinted, Width::kTint);
-    check_width(arith, tint_scale, Width::kTint);
-    mixed[k] = std::clamp(Arith::floor_div(tinted, tint_scale), 0, 15);
-  }
-  return {Rgb444::from_channels(mixed[0], mixed[1], mixed[2]), bounces};
+  return {tint_colour(arith, base, tint, tint_scale), bounces};
 }
 
 // The colour of the camera's ray along d in the mirror model. surface_of(i) gives sphere i's KernelSurface.

@@ -1,5 +1,7 @@
 #include <tripsitter/device/controller.h>
 
+#include <tripsitter/device/artix_units.h>
+
 namespace tripsitter::device {
 
 Controller::Controller(const DevicePreset& preset) : preset_(preset), worker_(preset) {}
@@ -12,6 +14,7 @@ int Controller::pixels_in_time(std::int64_t spheres) const {
 }
 
 LineResult Controller::render_line(int row, const SceneMemory& scene, std::span<core::Rgb444> line) const {
+  if (preset_.units) return artix::render_line(preset_, artix::prepare_world(scene), row, line, artix::Search::kAll);
   return schedule_line(preset_, static_cast<std::int64_t>(scene.geometry.size()), line,
                        [&](int col) { return worker_.trace(col, row, scene); });
 }

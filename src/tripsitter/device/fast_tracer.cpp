@@ -34,6 +34,10 @@ void FastTracer::load(const SceneMemory& scene) {
     for (int k = 0; k < 3; ++k) arith_.check(s.center[k], core::Width::kCentre);
     arith_.check(s.radius, core::Width::kRadius);
   }
+  if (preset_.units) {
+    units_ = artix::prepare_world(scene);
+    return;
+  }
   narrow_ = std::all_of(scene.geometry.begin(), scene.geometry.end(), [](const core::KernelSphere<std::int64_t>& s) {
     return std::abs(s.center.x) < kNarrowLimit && std::abs(s.center.y) < kNarrowLimit &&
            std::abs(s.center.z) < kNarrowLimit && s.radius >= 0 && s.radius < kNarrowLimit;
@@ -176,6 +180,7 @@ void FastTracer::primary_hits(int row, std::array<int, kLineWidth>& best,
 }
 
 LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const {
+  if (preset_.units) return artix::render_line(preset_, units_, row, line, artix::Search::kTiles);
   const SceneMemory& scene = *scene_;
   if (!narrow_) return controller_.render_line(row, scene, line);
   std::array<int, kLineWidth> best;

@@ -13,7 +13,7 @@
 //  - the square-root unit's closed form (SqrtUnit::closed_form) instead of its step-by-step recurrence.
 // The schedule is the controller's own (schedule_line). Worlds beyond the 64-bit bounds (a coordinate or
 // radius of kNarrowLimit raw units or more, possible only with formats wider than 29 bits) are traced by
-// the plain worker.
+// the plain worker. The artix preset's units have shortcuts of their own (artix_units.h).
 #pragma once
 
 #include <algorithm>
@@ -26,6 +26,7 @@
 
 #include <tripsitter/core/rgb444.h>
 #include <tripsitter/core/sphere_kernel.h>
+#include <tripsitter/device/artix_units.h>
 #include <tripsitter/device/controller.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/scene_memory.h>
@@ -125,6 +126,8 @@ class FastTracer {
   // The hierarchy of balls, balls_[0] the root; order_ the sphere indices grouped by leaf.
   std::vector<Ball> balls_;
   std::vector<int> order_;
+  // The artix preset's world (its units' own search and cull, artix_units.h): none of the above is used.
+  artix::UnitWorld units_;
 };
 
 }  // namespace tripsitter::device

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include <tripsitter/device/artix_kernel.h>
 #include <tripsitter/device/frame_memory.h>
 #include <tripsitter/device/sqrt_unit.h>
 
@@ -75,6 +76,16 @@ std::optional<std::string> DevicePreset::validate() const {
   if (costs.scatter_lambertian < 0 || costs.scatter_metal < 0 || costs.scatter_dielectric < 0 || costs.sky < 0 ||
       costs.accumulate < 0)
     return "the path costs must not be negative";
+  if (units) {
+    if (path) return "the sphere units do not path-trace";
+    if (units->tile_columns < 1 || kLineWidth % units->tile_columns != 0) return "tile columns must divide 640";
+    if (units->min_pass < 1) return "a pass takes at least one cycle";
+    if (units->hit_latency < 0 || units->reflect_latency < 0 || units->shade_latency < 0)
+      return "the units' latencies must not be negative";
+    if (x.total_bits > artix::kMaxCoordinateBits || y.total_bits > artix::kMaxCoordinateBits ||
+        z.total_bits > artix::kMaxCoordinateBits || radius.total_bits > artix::kMaxRadiusBits)
+      return "the sphere units take coordinates of at most 22 bits and radii of at most 21";
+  }
   if (path) {
     if (path->spp < 1 || path->spp > kMaxSamples) return "samples per pixel must be 1 to 255";
     if (path->depth < 1 || path->depth > kMaxPathDepth) return "path depth must be 1 to 16";
@@ -136,12 +147,33 @@ DevicePreset path_preset() {
   return p;
 }
 
-std::vector<std::string> preset_names() { return {"wide", "board-2023", "path"}; }
+DevicePreset artix_preset() {
+  DevicePreset p;
+  p.name = "artix";
+  p.summary =
+      "the XC7A100T's datapath: s22.4 coordinates, 18-bit unit directions, 12 pipelined sphere units shared by a "
+      "line's rays, camera rays culled per 32-column tile, mirrors up to 3 bounces";
+  p.x = {22, 4, true};
+  p.y = {22, 4, true};
+  p.z = {22, 4, true};
+  p.radius = {21, 4, false};
+  p.sqrt_iterations = 16;  // the units' square root: 16 digit steps, exact on 32-bit inputs
+  p.max_bounces = 3;
+  p.workers = 12;  // sphere units
+  p.lead_cycles = kLineCycles;
+  p.costs = wide_preset().costs;  // unused: the units' own costs are DeviceUnits
+  p.max_spheres = 256;
+  p.units = DeviceUnits{};
+  return p;
+}
+
+std::vector<std::string> preset_names() { return {"wide", "board-2023", "path", "artix"}; }
 
 std::optional<DevicePreset> preset_by_name(std::string_view name) {
   if (name == "wide") return wide_preset();
   if (name == "board-2023") return board_2023_preset();
   if (name == "path") return path_preset();
+  if (name == "artix") return artix_preset();
   return std::nullopt;
 }
 

@@ -67,6 +67,20 @@ struct DevicePath {
   FrameMemoryPlace frame_memory = FrameMemoryPlace::kExternal;
 };
 
+// The artix preset's sphere units (docs/device.md, "The artix preset"): DevicePreset::workers pipelined units, each
+// taking one (ray, sphere) pair a cycle, shared by all the rays of a line. Unit u takes the columns u, u + N, ...;
+// each of its pixels makes passes (the camera's ray, then one per reflection), a pass issuing one pair per cycle
+// for every sphere it tests. A camera ray tests the spheres whose screen bounds meet its tile of the line; a
+// reflected ray every sphere. A reflected ray waits in its unit's queue until it is known, and the unit takes a
+// waiting reflected ray before its next camera ray, so the wait is filled with other pixels' pairs.
+struct DeviceUnits {
+  int tile_columns = 32;     // camera rays are culled per tile of this many columns (a divisor of 640)
+  int min_pass = 3;          // cycles a pass takes at least (the shading block takes one channel a cycle)
+  int hit_latency = 40;      // cycles from a pass's last pair issued to its closest hit known
+  int reflect_latency = 20;  // from a hit known to the reflected ray waiting in the unit's queue
+  int shade_latency = 12;    // from the last hit known to the colour in the line buffer
+};
+
 struct DevicePreset {
   std::string name;
   std::string summary;
@@ -85,6 +99,9 @@ struct DevicePreset {
   // Present: the workers path-trace v2 worlds (path_kernel.h) and accumulate them in frame memory; absent: the
   // mirror model. v1 words are normal-shaded either way (the board's wire carries no material).
   std::optional<DevicePath> path;
+  // Present: the artix datapath (artix_kernel.h, artix_units.h), with `workers` sphere units; absent: per-pixel
+  // workers.
+  std::optional<DeviceUnits> units;
   // A measurement option of the model, not of the hardware: the workers trace their late pixels too, so that each
   // line's demand (LineResult::demand_cycles, FrameStats::worst_line_cycles) is exact. Late pixels stay black and
   // their colours never reach the line buffer or frame memory, so colours, late counts and frame memory are
@@ -92,6 +109,9 @@ struct DevicePreset {
   bool trace_late_pixels = false;
 
   int frac_bits() const { return x.frac_bits; }  // the same for x, y, z and radius
+  // Whether a line's demand (LineResult::demand_cycles) is exact when pixels are late: with trace_late_pixels, and
+  // always on the sphere units, whose model traces every pixel for its schedule; otherwise a lower bound.
+  bool demand_exact() const { return trace_late_pixels || units.has_value(); }
   // Cycles a pixel with `bounces` reflections keeps its worker from starting the next pixel, with
   // `spheres` spheres in scene memory.
   std::int64_t pixel_occupancy(std::int64_t spheres, int bounces) const;
@@ -116,6 +136,9 @@ DevicePreset wide_preset();
 DevicePreset board_2023_preset();
 // "path": the wide preset's formats and pipelined workers, path-tracing with frame memory (the report's section 7).
 DevicePreset path_preset();
+
+// "artix": the XC7A100T's datapath: sphere units sized to the DSP48E1, shared by a line's rays, mirrors.
+DevicePreset artix_preset();
 
 std::vector<std::string> preset_names();
 std::optional<DevicePreset> preset_by_name(std::string_view name);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <limits>
 #include <utility>
 
@@ -29,6 +30,19 @@ std::vector<BramMemory> bram_memories(const DevicePreset& p) {
     sphere_bits += 2 + 3 * 8 + 16 + 16;  // material, albedo, fuzz, index of refraction (u4.12)
   } else if (p.max_bounces > 0) {
     sphere_bits += 1 + 3 * 8;  // metal, albedo
+  }
+  if (p.units) {
+    sphere_bits += 1 + 3 * 8 + 5 + 34 + 19;  // metal, albedo; e, r^2 / 4^e, 1 / r
+    const int replicas = (p.workers + 1) / 2;
+    for (const char* which : {"scene memory (front)", "scene memory (back)"})
+      for (int k = 0; k < replicas; ++k) memory(which, p.max_spheres, sphere_bits);
+    for (const char* which : {"cull bounds (front)", "cull bounds (back)"}) memory(which, p.max_spheres, 40);
+    const int index_bits = std::max(1, static_cast<int>(std::bit_width(p.max_spheres - 1)));
+    const std::int64_t entries = std::int64_t{p.max_spheres} * (kLineWidth / p.units->tile_columns);
+    for (const char* which : {"tile lists (this line)", "tile lists (next line)"})
+      for (int k = 0; k < replicas; ++k) memory(which, entries, index_bits);
+    memory("camera rays' seed table", 313, 17);
+    return out;
   }
   for (const char* which : {"scene memory (front)", "scene memory (back)"}) memory(which, p.max_spheres, sphere_bits);
   if (p.path) {
@@ -109,6 +123,13 @@ WorkerBlocks worker_blocks(const DevicePreset& p) {
   w.sky = block("sky: blend by d^.up, times throughput", {{{17, 15}, 3}, {{17, 17}, 3}}, 6);
   w.seed_hash = block("seed hash: two constant multiplies", {{{32, 32}, 2}}, 6);
   w.accumulate = block("frame memory: add 9-bit samples, mean by reciprocal table", {{{17, 18}, 3}}, 3);
+  w.unit_sphere_test = block("sphere unit: b = d.oc, f = oc - b d, F.F, D, sqrt(D), t, compare",
+                             {{{24, 17}, 3}, {{24, 17}, 3}, {{17, 17}, 3}}, 3 + 2 + 3 + 2 + 1 + 1 + 1, 1);
+  w.unit_shade_reflect = block("unit shading and reflection, a channel a cycle: beta d, s d, n / r, d.n, (d.n) n, p",
+                               {{{17, 17}, 1}, {{17, 17}, 1}, {{17, 19}, 1}, {{17, 17}, 1}, {{17, 17}, 1}, {{24, 17}, 1}},
+                               8, 0, 1);
+  w.camera_rays = block("camera rays: x^2 + y^2 + 320^2, seed, one Newton step, v g",
+                        {{{17, 17}, 1}, {{19, 34}, 1}, {{17, 22}, 1}, {{10, 20}, 3}}, 5);
   return w;
 }
 
@@ -116,7 +137,10 @@ Resources resources(const DevicePreset& p) {
   const WorkerBlocks w = worker_blocks(p);
   Resources out;
   out.dsp_per_worker = w.ray_setup.dsp() + w.sphere_test.dsp();
-  if (p.path) {
+  if (p.units) {
+    out.dsp_per_worker = w.unit_sphere_test.dsp() + w.unit_shade_reflect.dsp();
+    out.dsp_shared = w.camera_rays.dsp();
+  } else if (p.path) {
     // One pipelined scatter unit serves every worker: a pixel's bounces are a few against its rays * spheres
     // sphere tests, so a line's bounces (about 640 * 1.5 at 1 spp) need far fewer than its 3200 cycles, one
     // accepted per cycle. Its normalisation serves the normal, the incoming direction and the sky in turn, so it
@@ -188,6 +212,12 @@ Operations mirror_operations_per_pixel(const DevicePreset& p, std::int64_t spher
   const double per = 1.0 / static_cast<double>(pixels);
   const double passes = static_cast<double>(pixels + reflections) * per;  // 1 + the reflections, on average
   Operations ops;
+  if (p.units) {  // an upper bound there: the cull spares camera rays most spheres
+    add(ops, w.camera_rays, 1);
+    add(ops, w.unit_sphere_test, passes * static_cast<double>(spheres));
+    add(ops, w.unit_shade_reflect, 3 * passes);  // a channel at a time
+    return ops;
+  }
   add(ops, w.ray_setup, passes);
   add(ops, w.sphere_test, passes * static_cast<double>(spheres));
   add(ops, w.reflect, static_cast<double>(reflections) * per);

@@ -6,7 +6,13 @@
 // ceil(a / 24) * ceil(b / 17) slices in the cheaper orientation (partial products summed in the slices' adders).
 // Every multiply of a block gets its own slices (a fully parallel datapath). Each worker has its own sphere-test
 // pipeline; the path preset's scatter unit is one pipelined unit shared by all workers. Constant multiplies (the
-// seed hash) are counted as multiplies too.
+// seed hash) are counted as multiplies too. The artix preset has sphere units instead of workers (dsp_per_worker is
+// then per unit), each with its own shading and reflection block taking one channel a cycle, and one camera-ray
+// block; its scene memory adds the per-world constants (e, r^2 / 4^e, 1 / r: 58 bits) and has a replica per pair
+// of units (one read port each), its cull keeps 40 bits of screen bounds per sphere (two copies), and each pair
+// of units reads the line's tile lists from its own double-buffered copy (spheres x tiles entries of the sphere
+// index's bits), besides the 313 x 17-bit seed table of the camera rays. These are the model's plan until the
+// preset's RTL is synthesised.
 //
 // Block RAM is counted in RAMB18E1 halves (18 Kbit; a 36-Kbit RAMB36E1 is two). Assumption: each memory takes
 // its own halves, in the one aspect ratio (depth x width) of 16384x1, 8192x2, 4096x4, 2048x9, 1024x18 and 512x36
@@ -72,6 +78,9 @@ struct WorkerBlocks {
   // per escaping ray the sky; per pixel the frame-memory accumulate and display.
   Block hit_point, normalise, random_unit, lambertian, metal, dielectric_common, dielectric_reflect,
       dielectric_refract, throughput, sky, seed_hash, accumulate;
+  // The artix preset's (artix_kernel.h), per sphere unit: the unit's pair a cycle (b, f, f.f in the sphere's scale),
+  // and its shading and reflection block, one channel a cycle; once per device: the camera rays' directions.
+  Block unit_sphere_test, unit_shade_reflect, camera_rays;
 };
 WorkerBlocks worker_blocks(const DevicePreset& preset);
 
@@ -106,7 +115,9 @@ Operations path_operations_per_pixel(const DevicePreset& preset, const PathCount
 // Operations per pixel of the mirror model's frame of `pixels` pixels that traced `reflections` reflections
 // (FrameStats::reflections) with `spheres` spheres: each pixel makes 1 + its reflections passes, each pass a ray
 // set-up (a = d.d) and a sphere test per sphere, and each reflection one reflect block (worker_blocks). The
-// normal-map shading is not in the ledger (as in the DSP count), nor the tint of reflected colours.
+// normal-map shading is not in the ledger (as in the DSP count), nor the tint of reflected colours. The artix
+// preset: a camera ray, every pass's sphere tests (every sphere: an upper bound, as its cull spares camera rays
+// most of them) and each pass's shading or reflection, a channel at a time.
 Operations mirror_operations_per_pixel(const DevicePreset& preset, std::int64_t spheres, std::uint64_t reflections,
                                        std::uint64_t pixels);
 

@@ -1,0 +1,257 @@
+#include <tripsitter/device/artix_kernel.h>
+#include <tripsitter/device/artix_units.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <tripsitter/core/sanitizers.h>
+#include <tripsitter/device/fast_tracer.h>
+
+#include "test_util.h"
+
+namespace tripsitter::device {
+namespace {
+
+using artix::UnitRay;
+using artix::UnitSphere;
+using artix::Vec3i;
+
+UnitSphere sphere_at(double x, double y, double z, double r, bool metal = false) {
+  const DevicePreset p = artix_preset();
+  core::KernelSphere<std::int64_t> s{{p.x.quantize(x).raw, p.y.quantize(y).raw, p.z.quantize(z).raw},
+                                     std::max<std::int64_t>(1, p.radius.quantize(r).raw)};
+  return artix::prepare_sphere(s, core::KernelSurface{metal, {255, 255, 255}});
+}
+
+TEST(Artix, CameraDirectionsAreUnitAndFollowTheBoardsRays) {
+  double worst_length = 0, worst_component = 0;
+  for (int row = 0; row < core::kScreenHeight; ++row) {
+    for (int col = 0; col < core::kScreenWidth; ++col) {
+      const Vec3i d = artix::camera_direction(col, row);
+      const auto v = core::device_ray<double>(col, row);
+      const double len = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+      const double exact[3] = {v.x / len * 131072, v.y / len * 131072, v.z / len * 131072};
+      double sq = 0;
+      for (std::size_t k = 0; k < 3; ++k) {
+        ASSERT_LE(std::abs(d[k]), artix::kDirectionMax);
+        worst_component = std::max(worst_component, std::abs(static_cast<double>(d[k]) - exact[k]));
+        sq += static_cast<double>(d[k]) * static_cast<double>(d[k]);
+      }
+      worst_length = std::max(worst_length, std::abs(std::sqrt(sq) / 131072 - 1));
+    }
+  }
+  // One Newton step from the 313-entry table, rounded to 2^-17: within a unit per component (the centre's z, 1
+  // exactly, saturates to 2^17 - 1).
+  EXPECT_LE(worst_component, 1.0);
+  EXPECT_LE(worst_length, 2.0 / 131072);
+}
+
+// SPEC.md's worked example: the sphere at (0, 0, 400) of radius 64 is a disc of radius about 51.9 pixels whose
+// point facing the camera is 0x770.
+TEST(Artix, TheSpecsSphereIsItsDisc) {
+  const std::vector<UnitSphere> spheres{sphere_at(0, 0, 400, 64)};
+  EXPECT_EQ(artix::trace_pixel(320, 240, spheres, 0).colour, core::Rgb444(0x770));
+  int hits = 0;
+  for (int col = 0; col < core::kScreenWidth; ++col)
+    hits += artix::trace_pixel(col, 240, spheres, 0).colour != core::kBackground ? 1 : 0;
+  EXPECT_EQ(hits, 2 * 52 - 1);  // columns 269..371 (|x| <= 51)
+}
+
+// The sphere unit against double arithmetic on random rays and spheres: the same hits away from the silhouette,
+// t within 2^-12 of the exact distance plus a raw unit.
+TEST(Artix, QuadraticFollowsTheExactGeometry) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int hits = 0, compared = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const int col = static_cast<int>(rng() % 640), row = static_cast<int>(rng() % 480);
+    // A sphere near the pixel's ray, as often hit as missed.
+    const double z = 40 + 4000 * unit(rng);
+    const double r = 0.5 + z * 0.3 * unit(rng) * unit(rng);
+    const double off = 2 * r * unit(rng);
+    const UnitSphere s = sphere_at((col - 320) * z / 320 + off, (row - 240) * z / 320 - off * unit(rng), z, r);
+    const UnitRay ray{{}, artix::camera_direction(col, row)};
+    const artix::Quadratic q = artix::quadratic(ray, s);
+    // Exact geometry of the same (rounded) ray and sphere, in raw units.
+    double d[3], oc[3], b = 0, dd = 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      d[k] = static_cast<double>(ray.d[k]);
+      oc[k] = static_cast<double>(s.c[k]);
+      b += d[k] * oc[k];
+      dd += d[k] * d[k];
+    }
+    const double len = std::sqrt(dd);
+    b /= len;
+    double ff = 0;
+    for (std::size_t k = 0; k < 3; ++k) ff += std::pow(oc[k] - b * d[k] / len, 2);
+    const double rr = static_cast<double>(s.r);
+    const double disc = rr * rr - ff;
+    if (std::abs(disc) < rr * rr * 0.01) continue;  // near the silhouette: the scaled f decides
+    ++compared;
+    const bool exact_hit = disc > 0 && b - std::sqrt(disc) > 0;
+    ASSERT_EQ(q.hit(), exact_hit) << "pair " << i;
+    if (!exact_hit) continue;
+    ++hits;
+    const double t = static_cast<double>(q.td) / 131072;
+    EXPECT_NEAR(t, b - std::sqrt(disc), 1 + (b - std::sqrt(disc)) / 4096) << "pair " << i;
+  }
+  EXPECT_GT(hits, 1000);
+  EXPECT_GT(compared, 15000);
+}
+
+TEST(Artix, NormalsAreUnitVectors) {
+  const std::vector<UnitSphere> spheres{sphere_at(-100, 30, 500, 120), sphere_at(90, -40, 800, 3.5)};
+  int checked = 0;
+  for (int row = 0; row < 480; row += 3) {
+    for (int col = 0; col < 640; col += 3) {
+      const UnitRay ray{{}, artix::camera_direction(col, row)};
+      const artix::Hit hit = artix::closest_hit(ray, spheres, -1);
+      if (hit.index < 0) continue;
+      const Vec3i n = artix::normal(ray, spheres[static_cast<std::size_t>(hit.index)]);
+      const double len = std::sqrt(static_cast<double>(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])) / 131072;
+      EXPECT_NEAR(len, 1.0, 0.002) << col << "," << row;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+}
+
+// A mirror reflects: the camera ray along the axis onto a mirror's pole comes straight back, the reflected ray's
+// origin on the sphere's near point.
+TEST(Artix, AMirrorSendsTheAxisRayBack) {
+  const UnitSphere mirror = sphere_at(0, 0, 400, 64, true);
+  const UnitRay ray{{}, artix::camera_direction(320, 240)};
+  const artix::Hit hit = artix::closest_hit(ray, std::vector<UnitSphere>{mirror}, -1);
+  ASSERT_EQ(hit.index, 0);
+  const UnitRay back = artix::reflect(ray, mirror, hit.td);
+  EXPECT_EQ(back.o[0], 0);
+  EXPECT_EQ(back.o[1], 0);
+  EXPECT_NEAR(static_cast<double>(back.o[2]), 336 * 16, 1);
+  EXPECT_EQ(back.d[0], 0);
+  EXPECT_EQ(back.d[1], 0);
+  EXPECT_NEAR(static_cast<double>(back.d[2]), -131072, 4);  // 18-bit operands: a few units of 2^-17
+}
+
+// The cull never drops a sphere a camera ray hits: on random worlds every pixel's closest hit over all spheres
+// is in its tile's list.
+TEST(Artix, TheCullKeepsEverySphereARayHits) {
+  const DevicePreset p = artix_preset();
+  std::mt19937_64 rng(77);
+  int hits = 0;
+  for (int world = 0; world < (core::kSanitized ? 10 : 40); ++world) {
+    const artix::UnitWorld w = artix::prepare_world(testing::random_world(p, rng));
+    for (int k = 0; k < 12; ++k) {
+      const int row = static_cast<int>(rng() % 480);
+      const artix::RowTiles tiles = artix::row_tiles(w, row, p.units->tile_columns);
+      for (int col = 0; col < 640; ++col) {
+        const artix::Hit hit = artix::closest_hit(UnitRay{{}, artix::camera_direction(col, row)}, w.spheres, -1);
+        if (hit.index < 0) continue;
+        ++hits;
+        const auto list = tiles.list(col / p.units->tile_columns);
+        ASSERT_TRUE(std::find(list.begin(), list.end(), hit.index) != list.end())
+            << "world " << world << " row " << row << " col " << col << " sphere " << hit.index;
+      }
+    }
+  }
+  EXPECT_GT(hits, 10000);
+}
+
+// The fast model (tile lists) and the plain one (every sphere) give the same lines, late pixels, reflections and
+// demand, on random worlds with metals, spheres behind and around the camera and at the formats' limits.
+TEST(Artix, FastModelEqualsThePlainOne) {
+  DevicePreset fewer = artix_preset();
+  fewer.workers = 5;  // a prime, and late lines
+  for (const DevicePreset& p : {artix_preset(), fewer}) {
+    std::mt19937_64 rng(2027);
+    const Controller plain(p);
+    FastTracer fast(p);
+    int late = 0, reflections = 0;
+    for (int world = 0; world < (core::kSanitized ? 8 : 30); ++world) {
+      const SceneMemory scene = testing::random_world(testing::with_bounces(p, 3), rng);
+      fast.load(scene);
+      for (int k = 0; k < 6; ++k) {
+        const int row = k == 0 ? 240 : static_cast<int>(rng() % 480);
+        std::array<core::Rgb444, kLineWidth> expected, got;
+        expected.fill(core::Rgb444(0xABC));
+        got.fill(core::Rgb444(0xDEF));
+        const LineResult a = plain.render_line(row, scene, expected);
+        const LineResult b = fast.render_line(row, got);
+        ASSERT_EQ(expected, got) << p.name << " world " << world << " row " << row;
+        EXPECT_EQ(a.late_pixels, b.late_pixels);
+        EXPECT_EQ(a.reflections, b.reflections);
+        EXPECT_EQ(a.demand_cycles, b.demand_cycles);
+        late += a.late_pixels;
+        reflections += a.reflections;
+      }
+    }
+    EXPECT_GT(reflections, 0) << p.name;
+    if (p.workers == 5) {
+      EXPECT_GT(late, 0);
+    }
+  }
+}
+
+std::vector<core::PixelTrace> plain_pixels() { return std::vector<core::PixelTrace>(kLineWidth, {core::kBackground, 0}); }
+
+// Worked schedules (docs/device.md, "The artix preset").
+TEST(ArtixSchedule, AnEmptyLineTakesAPassOfMinPassCyclesAPixel) {
+  const DevicePreset p = artix_preset();  // 12 units: units 0..3 have 54 pixels, the others 53
+  const std::vector<int> tests(kLineWidth, 0);
+  const auto finish = artix::unit_finish_cycles(p, 0, plain_pixels(), tests);
+  const std::int64_t drain = p.units->hit_latency + p.units->shade_latency;
+  EXPECT_EQ(finish[0], 3 + drain);
+  EXPECT_EQ(finish[12], 6 + drain);
+  EXPECT_EQ(finish[636], 54 * 3 + drain);
+  EXPECT_EQ(finish[639], 54 * 3 + drain);  // unit 3's last
+  EXPECT_EQ(finish[628], 53 * 3 + drain);  // unit 4's last
+}
+
+TEST(ArtixSchedule, AReflectedRayWaitsWhileTheUnitTakesItsNextPixel) {
+  DevicePreset p = artix_preset();
+  p.workers = 320;  // unit u has columns u and u + 320
+  auto pixels = plain_pixels();
+  pixels[5].bounces = 1;
+  const std::vector<int> tests(kLineWidth, 10);
+  const auto finish = artix::unit_finish_cycles(p, 10, pixels, tests);
+  // Column 5 issues [0, 10), its hit is known at 50 and its reflected ray waits from 70; column 325 issues
+  // [10, 20) meanwhile and is done at 60 + 12; the reflected pass issues [70, 80): done at 120 + 12.
+  EXPECT_EQ(finish[325], 72);
+  EXPECT_EQ(finish[5], 132);
+  EXPECT_EQ(finish[6], 62);
+}
+
+TEST(ArtixSchedule, AHeavyLineIsLateFromTheLeadOn) {
+  const DevicePreset p = artix_preset();
+  const std::vector<int> tests(kLineWidth, 400);
+  std::array<core::Rgb444, kLineWidth> line{};
+  const LineResult r = artix::schedule_units(p, 400, plain_pixels(), tests, line);
+  // Pixel k of a unit is done at 400 (k + 1) + 52: seven per unit within 3200.
+  EXPECT_EQ(r.late_pixels, kLineWidth - 12 * 7);
+  EXPECT_EQ(r.demand_cycles, 54 * 400 + 52);
+  EXPECT_EQ(line[0], core::kBackground);
+  EXPECT_EQ(line[12 * 7], core::kBlack);
+}
+
+TEST(ArtixPreset, ValidateKeepsTheOperandsInTheSlices) {
+  DevicePreset p = artix_preset();
+  EXPECT_FALSE(p.validate().has_value());
+  p.x = {23, 4, true};
+  EXPECT_TRUE(p.validate().has_value());
+  p = artix_preset();
+  p.radius = {22, 4, false};
+  EXPECT_TRUE(p.validate().has_value());
+  p = artix_preset();
+  p.units->tile_columns = 30;
+  EXPECT_TRUE(p.validate().has_value());
+  p = artix_preset();
+  p.path = DevicePath{};
+  EXPECT_TRUE(p.validate().has_value());
+}
+
+}  // namespace
+}  // namespace tripsitter::device

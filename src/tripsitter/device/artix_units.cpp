@@ -1,0 +1,138 @@
+#include <tripsitter/device/artix_units.h>
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <deque>
+
+#include <tripsitter/core/fixed.h>
+#include <tripsitter/device/worker.h>
+
+namespace tripsitter::device::artix {
+
+core::ScreenBounds cull_bounds(const UnitSphere& s) {
+  const std::int64_t grown = s.r + (s.r >> 10) + 4;
+  if (s.c[2] + grown <= 0) return {};  // wholly behind the camera plane
+  const core::Vec3<std::int64_t> c{s.c[0], s.c[1], s.c[2]};
+  // |c_k| < 2^21 and grown < 2^21.1: the plane tests' sums stay below 2^32 and their products below 2^110.
+  core::ScreenBounds b =
+      core::screen_bounds<core::Int128>(c, grown * grown, core::kScreenWidth, core::kScreenHeight, core::kScreenWidth);
+  if (b.col_lo > b.col_hi || b.row_lo > b.row_hi) return {};
+  b.col_lo = std::max(0, b.col_lo - 1);
+  b.col_hi = std::min(core::kScreenWidth - 1, b.col_hi + 1);
+  b.row_lo = std::max(0, b.row_lo - 1);
+  b.row_hi = std::min(core::kScreenHeight - 1, b.row_hi + 1);
+  return b;
+}
+
+UnitWorld prepare_world(const SceneMemory& scene) {
+  UnitWorld w;
+  w.spheres.reserve(scene.geometry.size());
+  w.bounds.reserve(scene.geometry.size());
+  for (std::size_t i = 0; i < scene.geometry.size(); ++i) {
+    w.spheres.push_back(prepare_sphere(scene.geometry[i], kernel_surface(scene, static_cast<int>(i))));
+    w.bounds.push_back(cull_bounds(w.spheres.back()));
+  }
+  return w;
+}
+
+RowTiles row_tiles(const UnitWorld& world, int row, int tile_columns) {
+  const int tiles = core::kScreenWidth / tile_columns;
+  RowTiles t;
+  t.start.assign(static_cast<std::size_t>(tiles) + 1, 0);
+  const auto meets = [&](const core::ScreenBounds& b) { return b.col_lo <= b.col_hi && b.row_lo <= row && row <= b.row_hi; };
+  for (const auto& b : world.bounds)
+    if (meets(b))
+      for (int k = b.col_lo / tile_columns; k <= b.col_hi / tile_columns; ++k) ++t.start[static_cast<std::size_t>(k) + 1];
+  for (int k = 0; k < tiles; ++k) t.start[static_cast<std::size_t>(k) + 1] += t.start[static_cast<std::size_t>(k)];
+  t.spheres.resize(static_cast<std::size_t>(t.start.back()));
+  std::vector<int> fill(t.start.begin(), t.start.end() - 1);
+  for (std::size_t i = 0; i < world.bounds.size(); ++i) {
+    const auto& b = world.bounds[i];
+    if (!meets(b)) continue;
+    for (int k = b.col_lo / tile_columns; k <= b.col_hi / tile_columns; ++k)
+      t.spheres[static_cast<std::size_t>(fill[static_cast<std::size_t>(k)]++)] = static_cast<int>(i);
+  }
+  return t;
+}
+
+std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres,
+                                             std::span<const core::PixelTrace> pixels,
+                                             std::span<const int> camera_tests) {
+  assert(preset.units && pixels.size() == kLineWidth && camera_tests.size() == kLineWidth);
+  const DeviceUnits& u = *preset.units;
+  const std::int64_t reflected_pass = std::max<std::int64_t>(u.min_pass, spheres);
+  std::vector<std::int64_t> finish(kLineWidth, 0);
+  struct Waiting {
+    std::int64_t known;  // the cycle the reflected ray is in the queue
+    int col;
+    int pass;
+  };
+  for (int unit = 0; unit < preset.workers; ++unit) {
+    std::deque<Waiting> queue;  // in the order known, as passes end in the order they issued
+    std::int64_t cycle = 0;     // the issue port is free from this cycle
+    int next_col = unit;
+    while (true) {
+      Waiting job{};
+      if (!queue.empty() && queue.front().known <= cycle) {
+        job = queue.front();
+        queue.pop_front();
+      } else if (next_col < kLineWidth) {
+        job = {cycle, next_col, 0};
+        next_col += preset.workers;
+      } else if (!queue.empty()) {
+        job = queue.front();
+        queue.pop_front();
+        cycle = job.known;
+      } else {
+        break;
+      }
+      const auto c = static_cast<std::size_t>(job.col);
+      cycle += job.pass == 0 ? std::max<std::int64_t>(u.min_pass, camera_tests[c]) : reflected_pass;
+      const std::int64_t known = cycle + u.hit_latency;
+      if (job.pass < pixels[c].bounces)
+        queue.push_back({known + u.reflect_latency, job.col, job.pass + 1});
+      else
+        finish[c] = known + u.shade_latency;
+    }
+  }
+  return finish;
+}
+
+LineResult schedule_units(const DevicePreset& preset, std::int64_t spheres, std::span<const core::PixelTrace> pixels,
+                          std::span<const int> camera_tests, std::span<core::Rgb444> line) {
+  const std::vector<std::int64_t> finish = unit_finish_cycles(preset, spheres, pixels, camera_tests);
+  LineResult result;
+  for (std::size_t c = 0; c < kLineWidth; ++c) {
+    result.demand_cycles = std::max(result.demand_cycles, finish[c]);
+    if (finish[c] > preset.lead_cycles) {
+      line[c] = core::kBlack;
+      ++result.late_pixels;
+      continue;
+    }
+    line[c] = pixels[c].colour;
+    result.reflections += pixels[c].bounces;
+  }
+  return result;
+}
+
+LineResult render_line(const DevicePreset& preset, const UnitWorld& world, int row, std::span<core::Rgb444> line,
+                       Search search) {
+  const int tile_columns = preset.units->tile_columns;
+  const RowTiles tiles = row_tiles(world, row, tile_columns);
+  std::array<int, kLineWidth> tests{};
+  std::array<core::PixelTrace, kLineWidth> pixels{};
+  const std::span<const UnitSphere> spheres(world.spheres);
+  for (int col = 0; col < kLineWidth; ++col) {
+    const std::span<const int> list = tiles.list(col / tile_columns);
+    tests[static_cast<std::size_t>(col)] = static_cast<int>(list.size());
+    pixels[static_cast<std::size_t>(col)] =
+        trace_pixel_with(col, row, spheres, preset.max_bounces, [&](const UnitRay& ray, int excluded, int pass) {
+          return pass == 0 && search == Search::kTiles ? closest_hit(ray, spheres, list, excluded)
+                                                       : closest_hit(ray, spheres, excluded);
+        });
+  }
+  return schedule_units(preset, static_cast<std::int64_t>(spheres.size()), pixels, tests, line);
+}
+
+}  // namespace tripsitter::device::artix

@@ -1,0 +1,76 @@
+// The artix preset's line (docs/device.md, "The artix preset"): the world as its sphere units read it, the camera
+// rays' cull by screen-space tiles, and the units' cycle schedule of a line.
+//
+// Cull. As a world is written to scene memory each sphere gets the columns and rows whose planes through the
+// camera meet it (core::screen_bounds, exact in integers) for a radius grown by r / 1024 + 4 raw units and then
+// by one column and one row on each side: more than the units' rounding can add to a sphere (a direction within
+// 2^-15 radians of the exact ray, the radius within 2^-14 of r), so a culled pair is a miss and the cull changes
+// no colour. A sphere wholly behind the camera plane, with that radius, is culled everywhere. While a line is
+// shown the cull engine lists, for each tile of the next line, the spheres whose rows hold it and whose columns
+// meet the tile, in the order sent.
+//
+// Schedule. See DeviceUnits (preset.h). A pass of a ray testing n spheres keeps its unit's issue port for
+// max(n, min_pass) cycles; its closest hit is known hit_latency cycles after its last pair; a reflected ray
+// joins the unit's queue reflect_latency cycles after that, and a pixel's colour is in the line buffer
+// shade_latency cycles after its last pass's hit is known. When its port is free the unit takes the oldest
+// waiting reflected ray that is known, else its next camera ray, else it waits for the oldest reflected ray.
+// A pixel whose colour is not in the line buffer by the lead time (3200 cycles) is black, as on the board.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <tripsitter/core/rgb444.h>
+#include <tripsitter/core/screen.h>
+#include <tripsitter/core/sphere_kernel.h>
+#include <tripsitter/device/artix_kernel.h>
+#include <tripsitter/device/controller.h>
+#include <tripsitter/device/preset.h>
+#include <tripsitter/device/scene_memory.h>
+
+namespace tripsitter::device::artix {
+
+// The world as the units read it: each sphere with its per-world constants and its cull bounds.
+struct UnitWorld {
+  std::vector<UnitSphere> spheres;
+  std::vector<core::ScreenBounds> bounds;  // inclusive; empty (lo > hi) when culled everywhere
+};
+// REQUIRES scene memory in formats the preset validated (coordinates of at most 22 bits, radii of at most 21).
+UnitWorld prepare_world(const SceneMemory& scene);
+
+// The cull bounds of one sphere (the header's rule).
+core::ScreenBounds cull_bounds(const UnitSphere& s);
+
+// One row's tile lists: the spheres of tile t are spheres[start[t] .. start[t + 1]), ascending.
+struct RowTiles {
+  std::vector<int> start;
+  std::vector<int> spheres;
+  std::span<const int> list(int tile) const {
+    const auto t = static_cast<std::size_t>(tile);
+    return std::span<const int>(spheres).subspan(static_cast<std::size_t>(start[t]),
+                                                 static_cast<std::size_t>(start[t + 1] - start[t]));
+  }
+};
+RowTiles row_tiles(const UnitWorld& world, int row, int tile_columns);
+
+// The units' schedule of a line whose pixels are `pixels` (each column's colour and reflections), the camera ray
+// of column c testing camera_tests[c] spheres and every reflected ray `spheres`: when each column's colour reaches
+// the line buffer, in cycles from the start of the line's work.
+std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres,
+                                             std::span<const core::PixelTrace> pixels,
+                                             std::span<const int> camera_tests);
+// The same schedule applied: fills `line` with the pixels on time and black for the late ones. The demand is
+// exact (every pixel is traced).
+LineResult schedule_units(const DevicePreset& preset, std::int64_t spheres, std::span<const core::PixelTrace> pixels,
+                          std::span<const int> camera_tests, std::span<core::Rgb444> line);
+
+// Row `row` of the world's frame: every pixel traced (artix_kernel.h), then scheduled. The plain model
+// (`search` kAll) tests every sphere on every pass, the fast model (kTiles) only the camera ray's tile list on the
+// first: the same colours, as the cull is conservative, and the same schedule, which counts the tile lists either
+// way.
+enum class Search { kAll, kTiles };
+LineResult render_line(const DevicePreset& preset, const UnitWorld& world, int row, std::span<core::Rgb444> line,
+                       Search search);
+
+}  // namespace tripsitter::device::artix
