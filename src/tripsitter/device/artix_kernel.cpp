@@ -11,14 +11,14 @@
 namespace tripsitter::device::artix {
 namespace {
 
-// |v| < 2^bits (docs/device.md, "The artix preset", widths): the operand or register the hardware gives `what`.
-// Compiled in with TRIPSITTER_CHECK_FIXED (worker.h).
+// -2^bits <= v < 2^bits, the range of the (bits + 1)-bit signed operand or register the hardware gives `what`
+// (docs/device.md, "The artix preset"). Compiled in with TRIPSITTER_CHECK_FIXED (worker.h).
 void check(std::int64_t v, int bits, const char* what) {
   if constexpr (kCheckFixed) {
-    const std::uint64_t m = v < 0 ? 0 - static_cast<std::uint64_t>(v) : static_cast<std::uint64_t>(v);
-    if ((m >> bits) != 0)
+    const std::int64_t limit = std::int64_t{1} << bits;
+    if (v < -limit || v >= limit)
       throw core::FixedPointOverflow(std::string("artix datapath: ") + what + " needs more than " +
-                                     std::to_string(bits) + " bits (docs/device.md, The artix preset)");
+                                     std::to_string(bits + 1) + " bits signed (docs/device.md, The artix preset)");
   }
 }
 
@@ -191,7 +191,7 @@ UnitRay reflect(const UnitRay& ray, const UnitSphere& s, std::int64_t td) {
   check(dn, 17, "d.n");
   for (std::size_t k = 0; k < 3; ++k) {
     out.o[k] = ray.o[k] + ((t * ray.d[k] + (std::int64_t{1} << (D - 1))) >> D);
-    check(out.o[k], 22, "a hit point");
+    check(out.o[k], 23, "a hit point");  // |c| + r + 2 < 2^22 + 2: a 24-bit register
     const std::int64_t twice = (dn * n[k] + (std::int64_t{1} << (D - 2))) >> (D - 1);  // 2 (d.n) n_k
     out.d[k] = std::clamp(ray.d[k] - twice, -kDirectionMax, kDirectionMax);
   }
