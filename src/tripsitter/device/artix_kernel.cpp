@@ -187,8 +187,8 @@ UnitRay reflect(const UnitRay& ray, const UnitSphere& s, std::int64_t td) {
   const std::int64_t t = (td + (std::int64_t{1} << (D - 1))) >> D;
   check(t, 24, "t");
   UnitRay out;
-  const std::int64_t dn = dot(ray.d, n) >> D;
-  check(dn, 17, "d.n");
+  // |d|, |n| <= 1 + 2^-16 or so: d.n may pass 1 by a few units, and the product's 18-bit operand saturates.
+  const std::int64_t dn = std::clamp(dot(ray.d, n) >> D, -kDirectionMax, kDirectionMax);
   for (std::size_t k = 0; k < 3; ++k) {
     out.o[k] = ray.o[k] + ((t * ray.d[k] + (std::int64_t{1} << (D - 1))) >> D);
     check(out.o[k], 23, "a hit point");  // |c| + r + 2 < 2^22 + 2: a 24-bit register
