@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
+#include <ranges>
 #include <string>
 
 #include <tripsitter/core/isqrt.h>
@@ -109,10 +110,13 @@ Quadratic quadratic(const UnitRay& ray, const UnitSphere& s) {
   return q;
 }
 
-Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, std::span<const int> candidates,
-                int excluded) {
+namespace {
+
+// The closest hit over the sphere indices `indices` (ascending) but `excluded`: the least t, ties to the lower index.
+template <class Indices>
+Hit closest_over(const UnitRay& ray, std::span<const UnitSphere> spheres, const Indices& indices, int excluded) {
   Hit best;
-  for (const int i : candidates) {
+  for (const int i : indices) {
     if (i == excluded) continue;
     const Quadratic q = quadratic(ray, spheres[static_cast<std::size_t>(i)]);
     if (!q.hit()) continue;
@@ -121,15 +125,15 @@ Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, std::sp
   return best;
 }
 
+}  // namespace
+
+Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, std::span<const int> candidates,
+                int excluded) {
+  return closest_over(ray, spheres, candidates, excluded);
+}
+
 Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, int excluded) {
-  Hit best;
-  for (int i = 0; i < static_cast<int>(spheres.size()); ++i) {
-    if (i == excluded) continue;
-    const Quadratic q = quadratic(ray, spheres[static_cast<std::size_t>(i)]);
-    if (!q.hit()) continue;
-    if (best.index < 0 || q.td < best.td) best = {i, q.td};
-  }
-  return best;
+  return closest_over(ray, spheres, std::views::iota(0, static_cast<int>(spheres.size())), excluded);
 }
 
 namespace {

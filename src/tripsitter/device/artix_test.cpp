@@ -10,7 +10,6 @@
 #include <gtest/gtest.h>
 
 #include <tripsitter/core/sanitizers.h>
-#include <tripsitter/device/fast_tracer.h>
 
 #include "test_util.h"
 
@@ -159,41 +158,6 @@ TEST(Artix, TheCullKeepsEverySphereARayHits) {
     }
   }
   EXPECT_GT(hits, 10000);
-}
-
-// The fast model (tile lists) and the plain one (every sphere) give the same lines, late pixels, reflections and
-// demand, on random worlds with metals, spheres behind and around the camera and at the formats' limits.
-TEST(Artix, FastModelEqualsThePlainOne) {
-  DevicePreset fewer = artix_preset();
-  fewer.workers = 5;  // a prime, and late lines
-  for (const DevicePreset& p : {artix_preset(), fewer}) {
-    std::mt19937_64 rng(2027);
-    const Controller plain(p);
-    FastTracer fast(p);
-    int late = 0, reflections = 0;
-    for (int world = 0; world < (core::kSanitized ? 8 : 30); ++world) {
-      const SceneMemory scene = testing::random_world(testing::with_bounces(p, 3), rng);
-      fast.load(scene);
-      for (int k = 0; k < 6; ++k) {
-        const int row = k == 0 ? 240 : static_cast<int>(rng() % 480);
-        std::array<core::Rgb444, kLineWidth> expected, got;
-        expected.fill(core::Rgb444(0xABC));
-        got.fill(core::Rgb444(0xDEF));
-        const LineResult a = plain.render_line(row, scene, expected);
-        const LineResult b = fast.render_line(row, got);
-        ASSERT_EQ(expected, got) << p.name << " world " << world << " row " << row;
-        EXPECT_EQ(a.late_pixels, b.late_pixels);
-        EXPECT_EQ(a.reflections, b.reflections);
-        EXPECT_EQ(a.demand_cycles, b.demand_cycles);
-        late += a.late_pixels;
-        reflections += a.reflections;
-      }
-    }
-    EXPECT_GT(reflections, 0) << p.name;
-    if (p.workers == 5) {
-      EXPECT_GT(late, 0);
-    }
-  }
 }
 
 std::vector<core::PixelTrace> plain_pixels() { return std::vector<core::PixelTrace>(kLineWidth, {core::kBackground, 0}); }

@@ -5,7 +5,6 @@
 #include <cassert>
 #include <deque>
 
-#include <tripsitter/core/fixed.h>
 #include <tripsitter/device/worker.h>
 
 namespace tripsitter::device::artix {

@@ -25,7 +25,7 @@ struct LineResult {
   int rays = 0;         // rays traced for the pixels that were on time (path preset)
   // The line's demand: cycles from the start of its work until its busiest worker has the colour of its last
   // pixel (the occupancies of all the worker's pixels plus the drain), on time or not. Exact when no pixel is
-  // late (then at most the lead time) or with DevicePreset::trace_late_pixels; otherwise a lower bound above the
+  // late (then at most the lead time) or when DevicePreset::demand_exact(); otherwise a lower bound above the
   // lead time (schedule_pixels).
   std::int64_t demand_cycles = 0;
 };

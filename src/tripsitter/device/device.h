@@ -37,7 +37,7 @@ struct FrameStats {
   int late_lines = 0;
   // The largest demand of the frame's visible lines (LineResult::demand_cycles): the cycles its slowest line
   // needed from the start of its work to its last colour. At most the lead time when no line is late; above it a
-  // lower bound unless the preset traces late pixels (DevicePreset::trace_late_pixels), then exact.
+  // lower bound unless DevicePreset::demand_exact(), then exact.
   std::int64_t worst_line_cycles = 0;
   // The mirror model (zero otherwise): reflections traced for the pixels on time.
   std::uint64_t reflections = 0;

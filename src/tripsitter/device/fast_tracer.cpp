@@ -27,16 +27,17 @@ FastTracer::FastTracer(const DevicePreset& preset)
 
 void FastTracer::load(const SceneMemory& scene) {
   scene_ = &scene;
+  if (preset_.units) {  // the units check their own operands (artix::prepare_sphere)
+    units_ = artix::prepare_world(scene);
+    narrow_ = true;
+    return;
+  }
   const std::size_t n = scene.geometry.size();
   // The fast paths' bounds derive from these inputs. Their quadratics and shading are the kernel's and check
   // their widths as the plain model does (NarrowArith); the plane and ball tests are the fast model's own.
   for (const auto& s : scene.geometry) {
     for (int k = 0; k < 3; ++k) arith_.check(s.center[k], core::Width::kCentre);
     arith_.check(s.radius, core::Width::kRadius);
-  }
-  if (preset_.units) {
-    units_ = artix::prepare_world(scene);
-    return;
   }
   narrow_ = std::all_of(scene.geometry.begin(), scene.geometry.end(), [](const core::KernelSphere<std::int64_t>& s) {
     return std::abs(s.center.x) < kNarrowLimit && std::abs(s.center.y) < kNarrowLimit &&

@@ -87,7 +87,7 @@ class FastTracer {
   LineResult render_path_line(int row, const PathFrame& frame, std::span<AccumEntry> memory,
                               std::span<core::Rgb444> line, PathCounters& counters) const;
 
-  // Whether the loaded world takes the fast paths (false: the plain worker traces it).
+  // Whether the loaded world takes the fast paths (false: the plain worker traces it). Always on the artix preset.
   bool narrow() const { return narrow_; }
 
  private:

@@ -157,11 +157,11 @@ DevicePreset artix_preset() {
   p.y = {22, 4, true};
   p.z = {22, 4, true};
   p.radius = {21, 4, false};
-  p.sqrt_iterations = 16;  // the units' square root: 16 digit steps, exact on 32-bit inputs
+  p.sqrt_iterations = 17;  // the units' exact square root takes 17 digit steps (the parameter does not change it)
   p.max_bounces = 3;
   p.workers = 12;  // sphere units
   p.lead_cycles = kLineCycles;
-  p.costs = wide_preset().costs;  // unused: the units' own costs are DeviceUnits
+  // The units' cycle costs are DeviceUnits; CycleCosts (the workers') does not apply.
   p.max_spheres = 256;
   p.units = DeviceUnits{};
   return p;

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include <tripsitter/core/screen.h>
+#include <tripsitter/device/artix_kernel.h>
 
 namespace tripsitter::device {
 namespace {
@@ -41,7 +42,7 @@ std::vector<BramMemory> bram_memories(const DevicePreset& p) {
     const std::int64_t entries = std::int64_t{p.max_spheres} * (kLineWidth / p.units->tile_columns);
     for (const char* which : {"tile lists (this line)", "tile lists (next line)"})
       for (int k = 0; k < replicas; ++k) memory(which, entries, index_bits);
-    memory("camera rays' seed table", 313, 17);
+    memory("camera rays' seed table", artix::kSeedEntries, 17);
     return out;
   }
   for (const char* which : {"scene memory (front)", "scene memory (back)"}) memory(which, p.max_spheres, sphere_bits);
