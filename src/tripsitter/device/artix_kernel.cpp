@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
-#include <ranges>
 #include <string>
 
 #include <tripsitter/core/isqrt.h>
@@ -112,11 +111,14 @@ Quadratic quadratic(const UnitRay& ray, const UnitSphere& s) {
 
 namespace {
 
-// The closest hit over the sphere indices `indices` (ascending) but `excluded`: the least t, ties to the lower index.
-template <class Indices>
-Hit closest_over(const UnitRay& ray, std::span<const UnitSphere> spheres, const Indices& indices, int excluded) {
+// The closest hit over the spheres index(0), ..., index(count - 1) (ascending) but `excluded`: the least t, ties to
+// the lower index.
+template <class Index>
+Hit closest_over(const UnitRay& ray, std::span<const UnitSphere> spheres, std::size_t count, const Index& index,
+                 int excluded) {
   Hit best;
-  for (const int i : indices) {
+  for (std::size_t j = 0; j < count; ++j) {
+    const int i = index(j);
     if (i == excluded) continue;
     const Quadratic q = quadratic(ray, spheres[static_cast<std::size_t>(i)]);
     if (!q.hit()) continue;
@@ -129,11 +131,11 @@ Hit closest_over(const UnitRay& ray, std::span<const UnitSphere> spheres, const 
 
 Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, std::span<const int> candidates,
                 int excluded) {
-  return closest_over(ray, spheres, candidates, excluded);
+  return closest_over(ray, spheres, candidates.size(), [&](std::size_t j) { return candidates[j]; }, excluded);
 }
 
 Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, int excluded) {
-  return closest_over(ray, spheres, std::views::iota(0, static_cast<int>(spheres.size())), excluded);
+  return closest_over(ray, spheres, spheres.size(), [](std::size_t j) { return static_cast<int>(j); }, excluded);
 }
 
 namespace {
