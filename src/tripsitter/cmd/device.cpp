@@ -203,7 +203,8 @@ void add_device_command(CLI::App& app, Action& run) {
                 "the frame number");
   cmd->add_option("--out-dir", o->out_dir, "Directory for the frames (--headless); created if missing");
   cmd->add_option("--preset", o->preset, "Device preset (" + join(device::preset_names()) + ")")->capture_default_str();
-  cmd->add_option("--workers", o->workers, "Number of device workers, 1..640 (default: the preset's)")
+  cmd->add_option("--workers", o->workers,
+                  "Number of device workers (the artix preset's sphere units), 1..640 (default: the preset's)")
       ->check(CLI::Range(1, 640));
   add_device_option(*cmd, o->device);
   cmd->add_option("--spp", o->spp,

@@ -485,7 +485,8 @@ void add_render_command(CLI::App& app, Action& run) {
                   "      written sRGB-encoded")
       ->capture_default_str();
   cmd->add_option("--preset", o->preset, "Device preset (" + join(device::preset_names()) + ")")->capture_default_str();
-  cmd->add_option("--workers", o->workers, "Number of device workers, 1..640 (default: the preset's)")
+  cmd->add_option("--workers", o->workers,
+                  "Number of device workers (the artix preset's sphere units), 1..640 (default: the preset's)")
       ->check(CLI::Range(1, 640));
   cmd->add_option("--bounces", o->bounces,
                   "Device mirror bounces off metal spheres, 0..6 (default: the preset's); also used by --mode normal")

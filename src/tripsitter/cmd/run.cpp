@@ -94,7 +94,9 @@ void add_run_command(CLI::App& app, Action& run) {
                   "--mode hw --preset path: rays per path on the device, 1..16 (default 4); --mode path: most bounces "
                   "along one path (default: the scene's render.max_depth)")
       ->check(CLI::Range(1, scene::kMaxDepth));
-  cmd->add_option("--workers", o->workers, "Number of device workers (default: the preset's)")->check(CLI::Range(1, 640));
+  cmd->add_option("--workers", o->workers,
+                  "Number of device workers (the artix preset's sphere units; default: the preset's)")
+      ->check(CLI::Range(1, 640));
   cmd->add_option("--wire", o->wire, "Link protocol, v1, v2 or v3")->capture_default_str();
   add_device_option(*cmd, o->device);
   cmd->add_option("--scale", o->scale, "Window size as a multiple of 640x480")->capture_default_str()->check(CLI::Range(1, 8));
