@@ -85,18 +85,18 @@ Quadratic quadratic(const UnitRay& ray, const UnitSphere& s) {
   Vec3i oc{};
   for (std::size_t k = 0; k < 3; ++k) {
     oc[k] = s.c[k] - ray.o[k];  // the pre-adder
-    check(oc[k], 24, "oc = c - o");
-    check(ray.d[k], 17, "a direction");
+    check(oc[k], kOcBits - 1, "oc = c - o");
+    check(ray.d[k], kDirectionFrac, "a direction");
   }
   q.bd = dot(oc, ray.d);
   const std::int64_t b = (q.bd + (std::int64_t{1} << (D - 1))) >> D;  // to the position grid
-  check(b, 24, "b");
+  check(b, kBBits - 1, "b");
   const int shift = D + s.e;  // 1..21
   std::int64_t ff = 0;
   bool saturated = false;  // f beyond 2^17 - 1 > r in the sphere's scale: a miss
   for (std::size_t k = 0; k < 3; ++k) {
     q.f[k] = (oc[k] << D) - b * ray.d[k];  // the post-adder: C - A x B
-    check(q.f[k], 47, "f");
+    check(q.f[k], kFBits - 1, "f");
     const std::int64_t scaled = q.f[k] >> shift;
     saturated = saturated || scaled > kScaledMax || scaled < -kScaledMax;
     const std::int64_t operand = std::clamp(scaled, -kScaledMax, kScaledMax);
@@ -197,7 +197,7 @@ UnitRay reflect(const UnitRay& ray, const UnitSphere& s, std::int64_t td) {
   const std::int64_t dn = std::clamp(dot(ray.d, n) >> D, -kDirectionMax, kDirectionMax);
   for (std::size_t k = 0; k < 3; ++k) {
     out.o[k] = ray.o[k] + ((t * ray.d[k] + (std::int64_t{1} << (D - 1))) >> D);
-    check(out.o[k], 23, "a hit point");  // |c| + r + 2 < 2^22 + 2: a 24-bit register
+    check(out.o[k], kOriginBits - 1, "a hit point");
     const std::int64_t twice = (dn * n[k] + (std::int64_t{1} << (D - 2))) >> (D - 1);  // 2 (d.n) n_k
     out.d[k] = std::clamp(ray.d[k] - twice, -kDirectionMax, kDirectionMax);
   }

@@ -35,6 +35,13 @@ inline constexpr std::int64_t kScaledMax = (std::int64_t{1} << 17) - 1;  // f / 
 // oc = c - o (o on a sphere: |o_k| < 2^21 + 2^21) takes at most 24 bits signed, the pre-adder's 25 with room.
 inline constexpr int kMaxCoordinateBits = 22;
 inline constexpr int kMaxRadiusBits = 21;
+// The registers of the sphere unit and the reflection, in bits signed (the RTL's ts_artix_pkg states the same): a
+// ray's origin (a hit point: |c| + r + 2 < 2^22 + 2), oc = c - o, b = d.oc rounded, and f = (oc << 17) - b d. The
+// kernel checks its values against them (TRIPSITTER_CHECK_FIXED).
+inline constexpr int kOriginBits = 24;
+inline constexpr int kOcBits = 25;
+inline constexpr int kBBits = 25;
+inline constexpr int kFBits = 48;
 // The reciprocal square root's seed table: entry i - kSeedFirst for n >> 9 = i, n = x^2 + y^2 + 320^2.
 inline constexpr int kSeedFirst = 200;  // 102400 >> 9
 inline constexpr int kSeedLast = 512;   // 262400 >> 9

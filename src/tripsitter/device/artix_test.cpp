@@ -164,15 +164,16 @@ std::vector<core::PixelTrace> plain_pixels() { return std::vector<core::PixelTra
 
 // Worked schedules (docs/device.md, "The artix preset").
 TEST(ArtixSchedule, AnEmptyLineTakesAPassOfMinPassCyclesAPixel) {
-  const DevicePreset p = artix_preset();  // 12 units: units 0..3 have 54 pixels, the others 53
+  const DevicePreset p = artix_preset();  // 9 units: unit 0 has 72 pixels, the others 71
+  ASSERT_EQ(p.workers, 9);
   const std::vector<int> tests(kLineWidth, 0);
   const auto finish = artix::unit_finish_cycles(p, 0, plain_pixels(), tests);
   const std::int64_t drain = p.units->hit_latency + p.units->shade_latency;
   EXPECT_EQ(finish[0], 3 + drain);
-  EXPECT_EQ(finish[12], 6 + drain);
-  EXPECT_EQ(finish[636], 54 * 3 + drain);
-  EXPECT_EQ(finish[639], 54 * 3 + drain);  // unit 3's last
-  EXPECT_EQ(finish[628], 53 * 3 + drain);  // unit 4's last
+  EXPECT_EQ(finish[9], 6 + drain);
+  EXPECT_EQ(finish[639], 72 * 3 + drain);  // unit 0's last
+  EXPECT_EQ(finish[631], 71 * 3 + drain);  // unit 1's last
+  EXPECT_EQ(finish[638], 71 * 3 + drain);  // unit 8's last
 }
 
 TEST(ArtixSchedule, AReflectedRayWaitsWhileTheUnitTakesItsNextPixel) {
@@ -195,10 +196,10 @@ TEST(ArtixSchedule, AHeavyLineIsLateFromTheLeadOn) {
   std::array<core::Rgb444, kLineWidth> line{};
   const LineResult r = artix::schedule_units(p, 400, plain_pixels(), tests, line);
   // Pixel k of a unit is done at 400 (k + 1) + 52: seven per unit within 3200.
-  EXPECT_EQ(r.late_pixels, kLineWidth - 12 * 7);
-  EXPECT_EQ(r.demand_cycles, 54 * 400 + 52);
+  EXPECT_EQ(r.late_pixels, kLineWidth - 9 * 7);
+  EXPECT_EQ(r.demand_cycles, 72 * 400 + 52);
   EXPECT_EQ(line[0], core::kBackground);
-  EXPECT_EQ(line[12 * 7], core::kBlack);
+  EXPECT_EQ(line[9 * 7], core::kBlack);
 }
 
 TEST(ArtixPreset, ValidateKeepsTheOperandsInTheSlices) {

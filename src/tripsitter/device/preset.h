@@ -79,6 +79,7 @@ struct DeviceUnits {
   int hit_latency = 40;      // cycles from a pass's last pair issued to its closest hit known
   int reflect_latency = 20;  // from a hit known to the reflected ray waiting in the unit's queue
   int shade_latency = 12;    // from the last hit known to the colour in the line buffer
+  bool operator==(const DeviceUnits&) const = default;
 };
 
 struct DevicePreset {
