@@ -20,6 +20,13 @@
 //   E7  quotient bits 3 and 2 of the division by 255^k
 //   E8  bits 1 and 0                                  -> the colour
 // Latency 5 (MAX_BOUNCES = 0) or 8 cycles, a new pixel every cycle.
+//
+// SHARED = 1 (the one-pixel-at-a-time worker, ts_worker.sv): no multiplier of its own. The products of the
+// input's operands come in with it, made in that cycle by the sphere test's multipliers (ts_sphere_test.sv,
+// mul_*), and the first two stages become
+//   E1  num d_x, num d_y, a oc_k, a r (in); num d_z = 320 num (shifts and adds); den = 2 (a r)
+//   E2  7 (num d_k) and 2 (7 a oc_k - 8 a r)
+// giving the same Y_k and den, bit for bit. Every ray is then the camera's (no reflections), so d_z is 320.
 module ts_shade #(
     parameter int NUMW = 50,
     parameter int OCW = 27,
@@ -28,7 +35,9 @@ module ts_shade #(
     parameter int AAW = 42,
     parameter int YW = 75,         // Y, signed
     parameter int MAX_BOUNCES = 3, // 0..3
-    parameter int PW = 24          // the albedo products: 8 MAX_BOUNCES bits (1 when MAX_BOUNCES = 0)
+    parameter int PW = 24,         // the albedo products: 8 MAX_BOUNCES bits (1 when MAX_BOUNCES = 0)
+    parameter int SHARED = 0,      // 1: the products come in (in_a_oc*, in_a_r, in_num_d*); camera rays only
+    parameter int BW = 49          // SHARED = 1: num's width in num d_x, num d_y (b's: num of a hit is at most b)
 ) (
     input  logic                   clk,
     input  logic                   rst,
@@ -44,6 +53,13 @@ module ts_shade #(
     input  logic signed [DW-1:0]   in_dy,
     input  logic signed [DW-1:0]   in_dz,
     input  logic [AAW-1:0]         in_a,
+    // SHARED = 1: products of the inputs above, in the same cycle (unused when SHARED = 0).
+    input  logic signed [AAW+OCW:0] in_a_ocx,   // a oc_k
+    input  logic signed [AAW+OCW:0] in_a_ocy,
+    input  logic signed [AAW+OCW:0] in_a_ocz,
+    input  logic [AAW+RW-1:0]      in_a_r,      // a r
+    input  logic signed [BW+DW-1:0] in_num_dx,  // num d_x, num d_y
+    input  logic signed [BW+DW-1:0] in_num_dy,
     input  logic [PW-1:0]          in_tint_r,  // products of the albedos reflected off (1 without reflections)
     input  logic [PW-1:0]          in_tint_g,
     input  logic [PW-1:0]          in_tint_b,
@@ -74,26 +90,16 @@ module ts_shade #(
     tint_step = rem >= div ? {1'b1, rem - div} : {1'b0, rem};
   endfunction
 
-  // ---- E1 ---------------------------------------------------------------------------------------------
-  logic                  e1_valid, e1_hit;
-  logic signed [N7W-1:0] e1_n7;
-  logic signed [WW-1:0]  e1_w[3];
-  logic [DENW-1:0]       e1_den;
-  logic [AAW:0]          e1_two_a;
-  logic signed [DW-1:0]  e1_d[3];
-  logic [PW-1:0]         e1_tint[3];
-  logic [1:0]            e1_bounces;
-  logic [9:0]            e1_col;
+  // ---- E1 and E2: the products (ts_shade's own, or the sphere test's) -------------------------------
+  logic                 e1_valid, e1_hit;
+  logic [DENW-1:0]      e1_den;
+  logic [PW-1:0]        e1_tint[3];
+  logic [1:0]           e1_bounces;
+  logic [9:0]           e1_col;
+  logic [DENW-1:0]      den;        // den of the inputs
+  logic signed [YW-1:0] p1[3], p2[3];  // E2's (7 num) d_k and 2a (7 oc_k - 8 r), from the E1 registers
 
-  logic signed [OCW-1:0] in_oc[3];
-  logic signed [DW-1:0]  in_d[3];
   logic [PW-1:0]         in_tint[3];
-  assign in_oc[0] = in_ocx;
-  assign in_oc[1] = in_ocy;
-  assign in_oc[2] = in_ocz;
-  assign in_d[0] = in_dx;
-  assign in_d[1] = in_dy;
-  assign in_d[2] = in_dz;
   assign in_tint[0] = in_tint_r;
   assign in_tint[1] = in_tint_g;
   assign in_tint[2] = in_tint_b;
@@ -102,33 +108,106 @@ module ts_shade #(
     if (rst || flush) begin
       e1_valid <= 1'b0;
       e1_hit <= 1'b0;
-      e1_n7 <= '0;
-      for (int k = 0; k < 3; k++) begin
-        e1_w[k] <= '0;
-        e1_d[k] <= '0;
-        e1_tint[k] <= '0;
-      end
+      for (int k = 0; k < 3; k++) e1_tint[k] <= '0;
       e1_den <= '0;
-      e1_two_a <= '0;
       e1_bounces <= '0;
       e1_col <= '0;
     end else begin
       e1_valid <= in_valid;
       e1_hit <= in_hit;
-      e1_n7 <= (N7W'(in_num) <<< 3) - N7W'(in_num);
-      for (int k = 0; k < 3; k++) begin
-        e1_w[k] <= (WW'(in_oc[k]) <<< 3) - WW'(in_oc[k]) - (WW'($signed({1'b0, in_r})) <<< 3);
-        e1_d[k] <= in_d[k];
-        e1_tint[k] <= in_tint[k];
-      end
-      e1_den <= (DENW'(in_a) * DENW'(in_r)) << 1;
-      e1_two_a <= {in_a, 1'b0};
+      for (int k = 0; k < 3; k++) e1_tint[k] <= in_tint[k];
+      e1_den <= den;
       e1_bounces <= in_bounces;
       e1_col <= in_col;
     end
   end
 
-  // ---- E2: the six products (modulo 2^YW: Y fits YW bits) ----------------------------------------------
+  if (SHARED == 0) begin : g_own
+    logic signed [N7W-1:0] e1_n7;
+    logic signed [WW-1:0]  e1_w[3];
+    logic [AAW:0]          e1_two_a;
+    logic signed [DW-1:0]  e1_d[3];
+    logic signed [OCW-1:0] in_oc[3];
+    logic signed [DW-1:0]  in_d[3];
+    assign in_oc[0] = in_ocx;
+    assign in_oc[1] = in_ocy;
+    assign in_oc[2] = in_ocz;
+    assign in_d[0] = in_dx;
+    assign in_d[1] = in_dy;
+    assign in_d[2] = in_dz;
+
+    assign den = (DENW'(in_a) * DENW'(in_r)) << 1;
+    always_ff @(posedge clk) begin
+      if (rst || flush) begin
+        e1_n7 <= '0;
+        for (int k = 0; k < 3; k++) begin
+          e1_w[k] <= '0;
+          e1_d[k] <= '0;
+        end
+        e1_two_a <= '0;
+      end else begin
+        e1_n7 <= (N7W'(in_num) <<< 3) - N7W'(in_num);
+        for (int k = 0; k < 3; k++) begin
+          e1_w[k] <= (WW'(in_oc[k]) <<< 3) - WW'(in_oc[k]) - (WW'($signed({1'b0, in_r})) <<< 3);
+          e1_d[k] <= in_d[k];
+        end
+        e1_two_a <= {in_a, 1'b0};
+      end
+    end
+    // The six products (modulo 2^YW: Y fits YW bits).
+    for (genvar k = 0; k < 3; k++) begin : g_products
+      assign p1[k] = YW'(e1_n7) * YW'(e1_d[k]);
+      assign p2[k] = YW'($signed({1'b0, e1_two_a})) * YW'(e1_w[k]);
+    end
+
+    /* verilator lint_off UNUSEDSIGNAL */
+    logic unused_products;
+    /* verilator lint_on UNUSEDSIGNAL */
+    assign unused_products = ^{in_a_ocx, in_a_ocy, in_a_ocz, in_a_r, in_num_dx, in_num_dy};
+  end else begin : g_shared
+    // num d_z: without reflections every ray is the camera's (checked below), whose d_z is 320 (core::device_ray).
+    logic signed [YW-1:0] e1_nd[3];   // num d_k
+    logic signed [YW-1:0] e1_aoc[3];  // a oc_k
+    logic signed [YW-1:0] e1_ar;      // a r
+    logic signed [YW-1:0] nd_z;
+    assign nd_z = (YW'(in_num) <<< 8) + (YW'(in_num) <<< 6);
+    assign den = DENW'({in_a_r, 1'b0});
+    always_ff @(posedge clk) begin
+      if (rst || flush) begin
+        for (int k = 0; k < 3; k++) begin
+          e1_nd[k] <= '0;
+          e1_aoc[k] <= '0;
+        end
+        e1_ar <= '0;
+      end else begin
+        e1_nd[0] <= YW'(in_num_dx);
+        e1_nd[1] <= YW'(in_num_dy);
+        e1_nd[2] <= nd_z;
+        e1_aoc[0] <= YW'(in_a_ocx);
+        e1_aoc[1] <= YW'(in_a_ocy);
+        e1_aoc[2] <= YW'(in_a_ocz);
+        e1_ar <= YW'($signed({1'b0, in_a_r}));
+      end
+    end
+    // (7 num) d_k = 8 (num d_k) - num d_k;  2a (7 oc_k - 8 r) = 16 (a oc_k) - 2 (a oc_k) - 16 (a r).
+    for (genvar k = 0; k < 3; k++) begin : g_sums
+      assign p1[k] = (e1_nd[k] <<< 3) - e1_nd[k];
+      assign p2[k] = (e1_aoc[k] <<< 4) - (e1_aoc[k] <<< 1) - (e1_ar <<< 4);
+    end
+
+    /* verilator lint_off UNUSEDSIGNAL */
+    logic unused_operands;
+    /* verilator lint_on UNUSEDSIGNAL */
+    assign unused_operands = ^{in_ocx, in_ocy, in_ocz, in_r, in_dx, in_dy, in_dz, in_a};
+    if (MAX_BOUNCES != 0) begin : g_bad_shared
+      $error("ts_shade: SHARED takes num d_z as the camera ray's 320 num: no reflections (MAX_BOUNCES = 0)");
+    end
+    if (YW < BW + DW || YW < AAW + OCW + 1 || YW < AAW + RW + 1) begin : g_bad_shared_widths
+      $error("ts_shade: Y's width must hold the products that come in");
+    end
+  end
+
+  // ---- E2: (7 num) d_k and 2a (7 oc_k - 8 r) -------------------------------------------------------------
   logic                 e2_valid, e2_hit;
   logic signed [YW-1:0] e2_p1[3], e2_p2[3];
   logic [DENW-1:0]      e2_den;
@@ -152,8 +231,8 @@ module ts_shade #(
       e2_valid <= e1_valid;
       e2_hit <= e1_hit;
       for (int k = 0; k < 3; k++) begin
-        e2_p1[k] <= YW'(e1_n7) * YW'(e1_d[k]);
-        e2_p2[k] <= YW'($signed({1'b0, e1_two_a})) * YW'(e1_w[k]);
+        e2_p1[k] <= p1[k];
+        e2_p2[k] <= p2[k];
         e2_tint[k] <= e1_tint[k];
       end
       e2_den <= e1_den;

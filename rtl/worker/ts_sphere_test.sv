@@ -21,6 +21,19 @@
 // Latency: 6 + the square-root unit's (25 cycles for `wide`, 41 for `board-2023`). Pipelined, a new pair every
 // cycle; with the iterative square root, a pair at most every N CPI + 3 cycles.
 //
+// Multipliers. Pipelined, every product has its own. With the iterative square root (PIPELINED = 0, the
+// one-pixel-at-a-time worker) pairs come N CPI + 3 or more cycles apart, and a pair uses S2's seven multipliers
+// in one cycle and S4's two in another, so the nine serve more than one use each:
+//   - the camera ray's squares (S1) are made on the multipliers of d_x oc_x and d_y oc_y, in the cycle before S2;
+//   - the worker's shading (ts_shade.sv, SHARED = 1) borrows them in a cycle of its own, mul_shade, when no pair
+//     is at S2 or S4 (ts_worker.sv keeps that: the shading's cycle falls between a pixel's last pair and the
+//     next pixel's first). Its six products, of the pass's closest hit and the camera ray:
+//       a oc_k (k = x, y, z) on the multipliers of oc_k^2,  a r on that of r^2,
+//       num d_x on that of b^2,                             num d_y on that of a c'
+//     num is that of a hit, 0 < num <= b, so b's width holds it. Each operand is no wider than the one it
+//     replaces, or still within a DSP48E1's 25 x 18 (a, 20 bits signed, beside oc_k's 16), so the shading adds no
+//     slice; multiplexers choose each cycle's operands.
+//
 // Widths (docs/device.md, "Widths"; ts_worker.sv chooses them from the formats): every named quantity is held
 // in a vector wide enough for its bound, and computed modulo that width (two's complement sums and products are
 // exact modulo 2^W, so a quantity that fits its width is right even when a partial sum would not).
@@ -63,6 +76,23 @@ module ts_sphere_test #(
     input  logic signed [DW-1:0]   refl_dy,
     input  logic signed [DW-1:0]   refl_dz,
     input  logic [AAW-1:0]         refl_a,
+    // The shading's products (PIPELINED = 0; ignored, and the products 0, when pipelined): with mul_shade, this
+    // cycle's multipliers take these operands, and the products come out in the same cycle.
+    input  logic                   mul_shade,
+    input  logic [AAW-1:0]         mul_a,
+    input  logic signed [OCW-1:0]  mul_ocx,
+    input  logic signed [OCW-1:0]  mul_ocy,
+    input  logic signed [OCW-1:0]  mul_ocz,
+    input  logic [RW-1:0]          mul_r,
+    input  logic signed [BW-1:0]   mul_num,
+    input  logic signed [DW-1:0]   mul_dx,
+    input  logic signed [DW-1:0]   mul_dy,
+    output logic signed [AAW+OCW:0] mul_a_ocx,   // a oc_k, exact
+    output logic signed [AAW+OCW:0] mul_a_ocy,
+    output logic signed [AAW+OCW:0] mul_a_ocz,
+    output logic [AAW+RW-1:0]      mul_a_r,      // a r, exact
+    output logic signed [BW+DW-1:0] mul_num_dx,  // num d_x, num d_y: exact when 0 < num <= b
+    output logic signed [BW+DW-1:0] mul_num_dy,
     // The result.
     output logic                   out_valid,
     output logic [TAG_W-1:0]       out_tag,
@@ -103,6 +133,13 @@ module ts_sphere_test #(
   assign in_dx = $signed({1'b0, in_col}) - 11'sd320;
   assign in_dy = $signed({1'b0, in_row}) - 10'sd240;
 
+  // The products, each registered by its stage (g_own_multipliers, g_shared_multipliers below).
+  logic [17:0]              m_dx2, m_dy2;  // S1
+  logic signed [DW+OCW-1:0] m_doc[3];      // S2
+  logic [2*OCW-1:0]         m_oc2[3];
+  logic [2*RW-1:0]          m_r2;
+  logic signed [DSW-1:0]    m_b2, m_ac;    // S4: b^2, a c'
+
   always_ff @(posedge clk) begin
     if (rst || flush) begin
       s1_valid <= 1'b0;
@@ -124,8 +161,8 @@ module ts_sphere_test #(
       s1_row <= in_row;
       for (int k = 0; k < 3; k++) s1_oc[k] <= in_c[k] - in_o[k];
       s1_r <= in_r;
-      s1_dx2 <= 18'(22'(in_dx) * 22'(in_dx));
-      s1_dy2 <= 18'(20'(in_dy) * 20'(in_dy));
+      s1_dx2 <= m_dx2;
+      s1_dy2 <= m_dy2;
     end
   end
 
@@ -173,11 +210,11 @@ module ts_sphere_test #(
       s2_row <= s1_row;
       for (int k = 0; k < 3; k++) begin
         s2_oc[k] <= s1_oc[k];
-        s2_doc[k] <= (DW + OCW)'(s1_d[k]) * (DW + OCW)'(s1_oc[k]);
-        s2_oc2[k] <= (2 * OCW)'((2 * OCW)'(s1_oc[k]) * (2 * OCW)'(s1_oc[k]));
+        s2_doc[k] <= m_doc[k];
+        s2_oc2[k] <= m_oc2[k];
       end
       s2_r <= s1_r;
-      s2_r2 <= (2 * RW)'(s1_r) * (2 * RW)'(s1_r);
+      s2_r2 <= m_r2;
       s2_a_cam <= 19'(s1_dx2) + 19'(s1_dy2) + 19'(102400);
     end
   end
@@ -235,6 +272,97 @@ module ts_sphere_test #(
   logic [AAW-1:0] s3_a;
   assign s3_a = s3_refl ? refl_a : AAW'(s3_a_cam);
 
+  // ---- the multipliers ------------------------------------------------------------------------------
+  if (PIPELINED != 0) begin : g_own_multipliers
+    assign m_dx2 = 18'(22'(in_dx) * 22'(in_dx));
+    assign m_dy2 = 18'(20'(in_dy) * 20'(in_dy));
+    for (genvar k = 0; k < 3; k++) begin : g_s2
+      assign m_doc[k] = (DW + OCW)'(s1_d[k]) * (DW + OCW)'(s1_oc[k]);
+      assign m_oc2[k] = (2 * OCW)'((2 * OCW)'(s1_oc[k]) * (2 * OCW)'(s1_oc[k]));
+    end
+    assign m_r2 = (2 * RW)'(s1_r) * (2 * RW)'(s1_r);
+    assign m_b2 = DSW'(s3_b) * DSW'(s3_b);
+    assign m_ac = DSW'($signed({1'b0, s3_a})) * DSW'(s3_cp);
+
+    // Every pair has its own products: the shading has its own multipliers.
+    assign mul_a_ocx = '0;
+    assign mul_a_ocy = '0;
+    assign mul_a_ocz = '0;
+    assign mul_a_r = '0;
+    assign mul_num_dx = '0;
+    assign mul_num_dy = '0;
+    /* verilator lint_off UNUSEDSIGNAL */
+    logic unused_mul;
+    /* verilator lint_on UNUSEDSIGNAL */
+    assign unused_mul = ^{mul_shade, mul_a, mul_ocx, mul_ocy, mul_ocz, mul_r, mul_num, mul_dx, mul_dy};
+  end else begin : g_shared_multipliers
+    // A pair is at S1 (in_valid), at S2 (s1_valid) or at S4 (s3_valid) in different cycles, and the shading's
+    // cycle (mul_shade) is none of them (the module's header): each multiplier takes the operands of whichever
+    // uses it in this cycle. The camera ray's components (-320..319, -240..239) fit DW and OCW (checked below).
+    localparam int AW1 = AAW + 1;                   // a as a signed operand
+    localparam int QW = AW1 > OCW ? AW1 : OCW;      // oc_k's multiplier's second operand: oc_k or a
+    localparam int RQW = AAW > RW ? AAW : RW;       // r's: r or a
+    logic signed [DW-1:0]     doc_d[3];
+    logic signed [OCW-1:0]    doc_oc[3];
+    logic signed [OCW-1:0]    oc_first[3];
+    logic signed [QW-1:0]     oc_second[3];
+    /* verilator lint_off UNUSEDSIGNAL */           // the top bits of the wider operand's products
+    logic signed [OCW+QW-1:0] oc_prod[3];
+    logic [RW+RQW-1:0]        r_prod;
+    /* verilator lint_on UNUSEDSIGNAL */
+    logic signed [OCW-1:0]    mul_oc[3];
+    assign mul_oc[0] = mul_ocx;
+    assign mul_oc[1] = mul_ocy;
+    assign mul_oc[2] = mul_ocz;
+
+    // d_x oc_x and d_y oc_y; in the cycle before, the camera ray's dx^2 and dy^2. d_z oc_z alone.
+    assign doc_d[0] = in_valid ? DW'(in_dx) : s1_d[0];
+    assign doc_oc[0] = in_valid ? OCW'(in_dx) : s1_oc[0];
+    assign doc_d[1] = in_valid ? DW'(in_dy) : s1_d[1];
+    assign doc_oc[1] = in_valid ? OCW'(in_dy) : s1_oc[1];
+    assign doc_d[2] = s1_d[2];
+    assign doc_oc[2] = s1_oc[2];
+    for (genvar k = 0; k < 3; k++) begin : g_s2
+      assign m_doc[k] = (DW + OCW)'(doc_d[k]) * (DW + OCW)'(doc_oc[k]);
+      // oc_k^2, or the shading's a oc_k.
+      assign oc_first[k] = mul_shade ? mul_oc[k] : s1_oc[k];
+      assign oc_second[k] = mul_shade ? QW'($signed({1'b0, mul_a})) : QW'(s1_oc[k]);
+      assign oc_prod[k] = (OCW + QW)'(oc_first[k]) * (OCW + QW)'(oc_second[k]);
+      assign m_oc2[k] = (2 * OCW)'(oc_prod[k]);
+    end
+    assign m_dx2 = 18'(m_doc[0]);
+    assign m_dy2 = 18'(m_doc[1]);
+    assign mul_a_ocx = (AAW + OCW + 1)'(oc_prod[0]);
+    assign mul_a_ocy = (AAW + OCW + 1)'(oc_prod[1]);
+    assign mul_a_ocz = (AAW + OCW + 1)'(oc_prod[2]);
+
+    // r^2, or the shading's a r.
+    logic [RW-1:0]  r_first;
+    logic [RQW-1:0] r_second;
+    assign r_first = mul_shade ? mul_r : s1_r;
+    assign r_second = mul_shade ? RQW'(mul_a) : RQW'(s1_r);
+    assign r_prod = (RW + RQW)'(r_first) * (RW + RQW)'(r_second);
+    assign m_r2 = (2 * RW)'(r_prod);
+    assign mul_a_r = (AAW + RW)'(r_prod);
+
+    // b^2 and a c', or the shading's num d_x and num d_y.
+    logic signed [BW-1:0]  b_first, b_second;
+    logic signed [AW1-1:0] ac_first;
+    logic signed [CPW-1:0] ac_second;
+    assign b_first = mul_shade ? mul_num : s3_b;
+    assign b_second = mul_shade ? BW'(mul_dx) : s3_b;
+    assign ac_first = mul_shade ? AW1'(mul_dy) : $signed({1'b0, s3_a});
+    assign ac_second = mul_shade ? CPW'(mul_num) : s3_cp;
+    assign m_b2 = DSW'(b_first) * DSW'(b_second);
+    assign m_ac = DSW'(ac_first) * DSW'(ac_second);
+    assign mul_num_dx = (BW + DW)'(m_b2);
+    assign mul_num_dy = (BW + DW)'(m_ac);
+
+    if (DW < 10 || OCW < 10 || AW1 < DW || BW < DW || CPW < BW || DSW < BW + DW) begin : g_bad_widths
+      $error("ts_sphere_test: the shared multipliers' operands do not fit the widths");
+    end
+  end
+
   always_ff @(posedge clk) begin
     if (rst || flush) begin
       s4_valid <= 1'b0;
@@ -260,8 +388,8 @@ module ts_sphere_test #(
       s4_r <= s3_r;
       s4_a_cam <= s3_a_cam;
       s4_b <= s3_b;
-      s4_b2 <= DSW'(s3_b) * DSW'(s3_b);
-      s4_ac4 <= (DSW'($signed({1'b0, s3_a})) * DSW'(s3_cp)) <<< 2;
+      s4_b2 <= m_b2;
+      s4_ac4 <= m_ac <<< 2;
     end
   end
 

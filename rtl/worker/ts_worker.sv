@@ -36,6 +36,14 @@
 //   t+26         the closest update; on the pass's last pair the pass ends: the closest hit is final
 //   t+27..       ts_shade.sv (5 cycles, 8 with the tint) and a delay to the drain, or ts_reflect.sv (19 cycles)
 // Widths follow docs/device.md, "Widths" (below).
+//
+// Multipliers (DSP48E1 slices on the board's FPGA). The pipelined worker gives every product its own. The
+// one-pixel-at-a-time worker issues a pair every PER_SPHERE cycles, and the sphere test multiplies in three of
+// them: t+1 (the camera ray's squares, on two of S2's multipliers), t+2 (S2) and t+4 (b^2 and 4ac'). Its shading
+// multiplies once, in cycle PASS_END after the last pair's issue, which falls after that pair's t+4 and before the
+// next pixel's first pair (g_bad_slot below: the shading ends inside the last sphere's slot, before the worker is
+// ready again). So the shading borrows the sphere test's multipliers (ts_sphere_test.sv, mul_*; ts_shade.sv with
+// SHARED = 1), and the occupancy's n PER_SPHERE is shifts and adds: the worker has no multiplier of its own.
 module ts_worker #(
     parameter int X_W = 24,                      // scene memory's formats: x, y, z signed, radius unsigned
     parameter int Y_W = 24,
@@ -174,6 +182,18 @@ module ts_worker #(
   end
 
   // ---- the sphere test ---------------------------------------------------------------------------------
+  // The pass's end (registered below), the shading's operands, and their products, which the one-pixel worker
+  // makes on the sphere test's multipliers (0 when pipelined: the shading has its own).
+  logic                    shade_start;
+  logic signed [NUMW-1:0]  pe_num;
+  logic signed [OCW-1:0]   pe_oc[3];
+  logic [R_W-1:0]          pe_r;
+  logic signed [DW-1:0]    pe_d[3];
+  logic [AAW-1:0]          pe_a;
+  logic signed [AAW+OCW:0] pe_a_oc[3];
+  logic [AAW+R_W-1:0]      pe_a_r;
+  logic signed [BW+DW-1:0] pe_num_d[2];
+
   logic signed [OW-1:0]   ray_o[3];   // the reflected ray (ts_reflect); 0 without reflections
   logic signed [DW-1:0]   ray_d[3];
   logic [AAW-1:0]         ray_a;
@@ -216,6 +236,21 @@ module ts_worker #(
       .refl_dy(ray_d[1]),
       .refl_dz(ray_d[2]),
       .refl_a(ray_a),
+      .mul_shade(shade_start),
+      .mul_a(pe_a),
+      .mul_ocx(pe_oc[0]),
+      .mul_ocy(pe_oc[1]),
+      .mul_ocz(pe_oc[2]),
+      .mul_r(pe_r),
+      .mul_num(BW'(pe_num)),
+      .mul_dx(pe_d[0]),
+      .mul_dy(pe_d[1]),
+      .mul_a_ocx(pe_a_oc[0]),
+      .mul_a_ocy(pe_a_oc[1]),
+      .mul_a_ocz(pe_a_oc[2]),
+      .mul_a_r(pe_a_r),
+      .mul_num_dx(pe_num_d[0]),
+      .mul_num_dy(pe_num_d[1]),
       .out_valid(ct_valid),
       .out_tag(ct_tag),
       .out_refl(ct_refl),
@@ -285,9 +320,6 @@ module ts_worker #(
 
   // ---- the pass's end: to the shading, or to the reflection ---------------------------------------------
   logic                   pe_valid, pe_reflect, pe_hit, pe_refl;
-  logic signed [NUMW-1:0] pe_num;
-  logic signed [OCW-1:0]  pe_oc[3];
-  logic [R_W-1:0]         pe_r;
   logic [23:0]            pe_albedo;
   logic [9:0]             pe_col;
   logic [8:0]             pe_row;
@@ -332,8 +364,6 @@ module ts_worker #(
   end
 
   // The pass's ray: the camera's, or the reflected one it was traced along.
-  logic signed [DW-1:0] pe_d[3];
-  logic [AAW-1:0]       pe_a;
   logic signed [DW-1:0] pe_cam_dx, pe_cam_dy;
   ts_pixel_ray #(.DW(DW)) pe_camera (.col(pe_col), .row(pe_row), .dx(pe_cam_dx), .dy(pe_cam_dy));
   assign pe_d[0] = pe_refl ? ray_d[0] : pe_cam_dx;
@@ -346,13 +376,16 @@ module ts_worker #(
   logic [1:0]  sh_bounces;
   logic [9:0]  sh_col;
 
+  assign shade_start = pe_valid && !pe_reflect;
+
   ts_shade #(
-      .NUMW(NUMW), .OCW(OCW), .RW(R_W), .DW(DW), .AAW(AAW), .YW(YW), .MAX_BOUNCES(MAX_BOUNCES), .PW(PW)
+      .NUMW(NUMW), .OCW(OCW), .RW(R_W), .DW(DW), .AAW(AAW), .YW(YW), .MAX_BOUNCES(MAX_BOUNCES), .PW(PW),
+      .SHARED(PIPELINED == 0 ? 1 : 0), .BW(BW)
   ) u_shade (
       .clk(clk),
       .rst(rst),
       .flush(flush),
-      .in_valid(pe_valid && !pe_reflect),
+      .in_valid(shade_start),
       .in_hit(pe_hit),
       .in_num(pe_num),
       .in_ocx(pe_oc[0]),
@@ -363,6 +396,12 @@ module ts_worker #(
       .in_dy(pe_d[1]),
       .in_dz(pe_d[2]),
       .in_a(pe_a),
+      .in_a_ocx(pe_a_oc[0]),
+      .in_a_ocy(pe_a_oc[1]),
+      .in_a_ocz(pe_a_oc[2]),
+      .in_a_r(pe_a_r),
+      .in_num_dx(pe_num_d[0]),
+      .in_num_dy(pe_num_d[1]),
       .in_tint_r(pe_p[0]),
       .in_tint_g(pe_p[1]),
       .in_tint_b(pe_p[2]),
@@ -552,6 +591,13 @@ module ts_worker #(
     logic            take;
     logic [AW:0]     n_now;
 
+    // n PER_SPHERE: a constant multiply, so shifts and adds (a multiplier here would cost a DSP48E1 slice).
+    function automatic logic [CNTW-1:0] times_per_sphere(input logic [AW:0] count);
+      times_per_sphere = '0;
+      for (int i = 0; i < 31; i++)
+        if (((PER_SPHERE >> i) & 1) != 0) times_per_sphere = times_per_sphere + (CNTW'(count) << i);
+    endfunction
+
     assign ready = busy == '0;
     assign take = start && ready;
     assign n_now = take ? sphere_count : n;
@@ -576,7 +622,7 @@ module ts_worker #(
       end else begin
         if (take) begin
           // occupancy - 1 = PIXEL_SETUP + n PER_SPHERE + SHADE - 1
-          busy <= CNTW'(PIXEL_SETUP + SHADE - 1) + CNTW'(sphere_count) * CNTW'(PER_SPHERE);
+          busy <= CNTW'(PIXEL_SETUP + SHADE - 1) + times_per_sphere(sphere_count);
           slot <= 6'(PER_SPHERE - 1);
           j <= (AW + 1)'(1);
           n <= sphere_count;

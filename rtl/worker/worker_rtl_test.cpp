@@ -352,6 +352,38 @@ TEST(WorkerRtl, ThePlantedSquareRootFaultIsCaught) {
   EXPECT_EQ(compare<Vts_worker_board>(p, m, pixels, "the same pixels without the fault"), 0);
 }
 
+// flush on the one-pixel worker in every cycle around a pixel's end: the pass's end, the cycle its shading borrows
+// the sphere test's multipliers, the shading, the done pulse. A done pulse due in the flush cycle is given, nothing
+// of the dropped pixel after it, and the pixels started at once after it are traced and timed as ever.
+TEST(WorkerRtl, BoardFlushAroundAPixelsEnd) {
+  const DevicePreset p = device::board_2023_preset();
+  SceneMemory m;
+  add_sphere(m, p, 0, 0, 400, 64, false, {128, 128, 128});
+  add_sphere(m, p, 40, -30, 500, 120, true, {255, 0, 0});
+  const device::Worker w(p);
+  const std::vector<Pixel> pixels = {{318, 236, 0}, {330, 250, 0}, {300, 230, 0}};
+  for (const Pixel& px : pixels) ASSERT_NE(w.shade(px.col, px.row, m), core::kBackground);
+  const std::int64_t occupancy = p.pixel_occupancy(2, 0);  // 96: the last pair at 45, its pass ends at 45 + 43
+  for (std::int64_t at = 80; at < occupancy; ++at) {
+    WorkerRtl<Vts_worker_board> rtl(p, m);
+    const RunResult run = rtl.run(pixels, at);
+    ASSERT_EQ(run.error, "") << "flush at " << at;
+    const Traced& first = run.pixels[0];
+    if (at == occupancy - 1) {  // the done pulse is in the flush cycle
+      EXPECT_EQ(first.done, first.start + at) << "flush at " << at;
+      EXPECT_EQ(first.colour, w.shade(pixels[0].col, pixels[0].row, m)) << "flush at " << at;
+    } else {
+      EXPECT_EQ(first.done, -1) << "flush at " << at;
+    }
+    EXPECT_EQ(run.pixels[1].start, first.start + at + 1) << "not ready after the flush at " << at;
+    for (std::size_t i = 1; i < pixels.size(); ++i) {
+      const Traced& t = run.pixels[i];
+      EXPECT_EQ(t.colour, w.shade(pixels[i].col, pixels[i].row, m)) << "pixel " << i << ", flush at " << at;
+      EXPECT_EQ(t.done, t.start + occupancy - 1) << "pixel " << i << ", flush at " << at;
+    }
+  }
+}
+
 // ---- wide: pipelined, up to 3 reflections ---------------------------------------------------------------
 
 TEST(WorkerRtl, WideRandomWorldsBackToBack) {
