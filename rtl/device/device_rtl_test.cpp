@@ -17,6 +17,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -29,6 +30,7 @@
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/test_util.h>
 #include <tripsitter/link/frame.h>
+#include <tripsitter/link/wire_v1.h>
 
 namespace tripsitter::device {
 namespace {
@@ -102,21 +104,61 @@ std::vector<std::uint8_t> random_frame(const DevicePreset& p, link::WireVersion 
   return testing::frame_of_scene(p, sequence, scene, wire, 7);
 }
 
-// Worlds one after another to the model and the RTL; each world's first frame compared sample by sample, with the
-// frame's statistics and the receiver's counters. Returns the reflections the model's frames traced (the mirror
-// model's worlds should have some).
-std::uint64_t compare_worlds(const DevicePreset& preset, link::WireVersion wire, int worlds, std::uint64_t seed) {
-  std::uint64_t reflections = 0;
+// A v1 word, the original board's: one sphere, and a world of its own (the device shows the latest word). Kinds in
+// turn: in view; anywhere in the word's formats (behind the camera, around it, off to a side); at the formats' ends
+// with the largest radius board-2023 holds (2^12), reaching into view. Every word is one board-2023 accepts.
+std::vector<std::uint8_t> random_v1_word(int kind, std::mt19937_64& rng) {
+  const auto between = [&](std::int64_t lo, std::int64_t hi) {
+    return static_cast<std::int32_t>(lo + static_cast<std::int64_t>(rng() % static_cast<std::uint64_t>(hi - lo + 1)));
+  };
+  constexpr std::int32_t kUnit = 1 << link::kV1X.frac_bits;
+  link::V1Sphere s;
+  switch (kind % 3) {
+    case 0: {
+      const std::int32_t z = between(200, 1500);
+      s = {between(-z / 2, z / 2) * kUnit, between(-z / 3, z / 3) * kUnit, z * kUnit,
+           static_cast<std::uint8_t>(between(3, 8)), 0};
+      break;
+    }
+    case 1:
+      s = {between(link::kV1X.min_raw(), link::kV1X.max_raw()), between(link::kV1Y.min_raw(), link::kV1Y.max_raw()),
+           between(link::kV1Z.min_raw(), link::kV1Z.max_raw()), static_cast<std::uint8_t>(between(0, 12)), 0};
+      break;
+    default: {
+      const auto either = [&](std::int64_t a, std::int64_t b) { return static_cast<std::int32_t>(rng() % 2 ? a : b); };
+      s = {either(link::kV1X.max_raw(), link::kV1X.min_raw()), either(link::kV1Y.max_raw(), link::kV1Y.min_raw()),
+           static_cast<std::int32_t>(link::kV1Z.max_raw()), 12, 0};
+      break;
+    }
+  }
+  s.colour = static_cast<std::uint16_t>(rng() % 4096);
+  std::vector<std::uint8_t> bytes;
+  link::append_v1_bytes(link::encode_v1_word(s), bytes);
+  return bytes;
+}
+
+// What compare_worlds saw in the model's frames.
+struct Compared {
+  std::uint64_t reflections = 0;     // the mirror model's worlds should have some
+  std::uint64_t sphere_samples = 0;  // samples neither background nor black (blanking, a late pixel): a sphere drawn
+};
+
+// Worlds one after another to the model and the RTL (frames on v2 and v3, words on v1); each world's first frame
+// compared sample by sample, with the frame's statistics and the receiver's counters.
+Compared compare_worlds(const DevicePreset& preset, link::WireVersion wire, int worlds, std::uint64_t seed) {
+  Compared compared;
   std::mt19937_64 rng(seed);
   Device model(preset, wire, 1, DeviceModel::kPlain);
   const std::unique_ptr<Backend> rtl = rtl_device(preset, wire);
-  if (!rtl) return 0;
+  if (!rtl) return compared;
   for (int w = 1; w <= worlds; ++w) {
-    const std::vector<std::uint8_t> bytes = random_frame(preset, wire, static_cast<std::uint32_t>(w), rng);
+    const std::vector<std::uint8_t> bytes = wire == link::WireVersion::kV1
+                                                ? random_v1_word(w - 1, rng)
+                                                : random_frame(preset, wire, static_cast<std::uint32_t>(w), rng);
     model.transfer(bytes);
     rtl->transfer(bytes);
     EXPECT_EQ(rtl->receiver_stats().worlds_accepted, model.receiver_stats().worlds_accepted) << "world " << w;
-    if (rtl->receiver_stats().worlds_accepted != model.receiver_stats().worlds_accepted) return reflections;
+    if (rtl->receiver_stats().worlds_accepted != model.receiver_stats().worlds_accepted) return compared;
     EXPECT_EQ(rtl->ready(), model.ready()) << "world " << w;
     FrameStats stats;
     const std::vector<VgaSample> expected = frame_samples(model, stats);
@@ -133,10 +175,13 @@ std::uint64_t compare_worlds(const DevicePreset& preset, link::WireVersion wire,
     EXPECT_EQ(got.has_world, stats.has_world) << "world " << w;
     EXPECT_EQ(got.sequence, stats.sequence) << "world " << w;
     EXPECT_EQ(rtl->has_world(), model.has_world());
-    if (!diff.empty()) return reflections;
-    reflections += stats.reflections;
+    if (!diff.empty()) return compared;
+    compared.reflections += stats.reflections;
+    for (const VgaSample& v : expected) {
+      compared.sphere_samples += v.colour != core::kBackground && v.colour != core::kBlack;
+    }
   }
-  return reflections;
+  return compared;
 }
 
 // A simulated frame of the board-2023 top with ten workers takes 4 to 7 s here, with one worker about 0.6 s, of the
@@ -146,6 +191,12 @@ TEST(DeviceRtl, Board2023TenWorkersV2) {
   compare_worlds(board_2023_preset(), link::WireVersion::kV2, 3, 1);
 }
 
+// The board as the report shipped it: board-2023's hardware, its 10 workers, the v1 wire's sphere words.
+TEST(DeviceRtl, Board2023TenWorkersV1) {
+  EXPECT_GT(compare_worlds(board_2023_preset(), link::WireVersion::kV1, 3, 8).sphere_samples, 0u)
+      << "no word drew a sphere";
+}
+
 TEST(DeviceRtl, Board2023OneWorker) {
   DevicePreset p = board_2023_preset();
   p.workers = 1;
@@ -153,19 +204,37 @@ TEST(DeviceRtl, Board2023OneWorker) {
 }
 
 TEST(DeviceRtl, WideTenWorkersV3) {
-  EXPECT_GT(compare_worlds(wide_preset(), link::WireVersion::kV3, 1, 3), 0u);
+  EXPECT_GT(compare_worlds(wide_preset(), link::WireVersion::kV3, 1, 3).reflections, 0u);
 }
 
 TEST(DeviceRtl, WideSevenWorkers) {
   DevicePreset p = wide_preset();
   p.workers = 7;
-  EXPECT_GT(compare_worlds(p, link::WireVersion::kV3, 1, 4), 0u);
+  EXPECT_GT(compare_worlds(p, link::WireVersion::kV3, 1, 4).reflections, 0u);
 }
 
 TEST(DeviceRtl, WideOneWorker) {
   DevicePreset p = wide_preset();
   p.workers = 1;
-  EXPECT_GT(compare_worlds(p, link::WireVersion::kV3, 3, 5), 0u);
+  EXPECT_GT(compare_worlds(p, link::WireVersion::kV3, 3, 5).reflections, 0u);
+}
+
+// The artix device (ts_artix_device): its sphere units, the world's constants and cull, the tile lists and the
+// queues, with the preset's 9 units, 5 (a prime) and 1. A frame of 9 units takes about 20 s here.
+TEST(DeviceRtl, ArtixNineUnits) {
+  EXPECT_GT(compare_worlds(artix_preset(), link::WireVersion::kV3, 1, 12).reflections, 0u);
+}
+
+TEST(DeviceRtl, ArtixFiveUnits) {
+  DevicePreset p = artix_preset();
+  p.workers = 5;
+  EXPECT_GT(compare_worlds(p, link::WireVersion::kV3, 1, 13).reflections, 0u);
+}
+
+TEST(DeviceRtl, ArtixOneUnit) {
+  DevicePreset p = artix_preset();
+  p.workers = 1;
+  EXPECT_GT(compare_worlds(p, link::WireVersion::kV3, 3, 14).reflections, 0u);
 }
 
 TEST(DeviceRtl, Board2023SevenWorkers) {
@@ -196,10 +265,14 @@ void expect_same_receiver(const Backend& rtl, const Device& model, const std::st
   EXPECT_EQ(rtl.ready(), model.ready()) << after;
 }
 
+// On board-2023's receiver and on the artix device's, whose world is prepared after the receiver writes it.
 TEST(DeviceRtl, DamagedLinkAtThePins) {
-  DevicePreset p = board_2023_preset();
-  p.workers = 1;
-  for (const link::WireVersion wire : {link::WireVersion::kV2}) {
+  DevicePreset board = board_2023_preset();
+  board.workers = 1;
+  DevicePreset artix = artix_preset();
+  artix.workers = 1;
+  for (const auto& [p, wire] : {std::pair{board, link::WireVersion::kV2}, std::pair{artix, link::WireVersion::kV3}}) {
+    SCOPED_TRACE(p.name);
     Device model(p, wire, 1, DeviceModel::kPlain);
     const std::unique_ptr<Backend> rtl = rtl_device(p, wire);
     ASSERT_TRUE(rtl);
@@ -229,6 +302,42 @@ TEST(DeviceRtl, DamagedLinkAtThePins) {
     EXPECT_EQ(r.sequence, m.sequence);
     EXPECT_TRUE(m.has_world);
   }
+}
+
+// v1 words damaged at the pins of the board as it shipped: a word board-2023 refuses (a radius of 2^13), a word cut
+// short by the host going away, a byte lost (the words after it are read shifted until the stream ends), then good
+// words: the counters and ready line as the model's after every piece. (No frame: Board2023TenWorkersV1 compares
+// the frames of the words this build accepts, receiver_rtl_test the receiver's v1 damage at length.)
+TEST(DeviceRtl, DamagedV1WordsAtThePins) {
+  const DevicePreset p = board_2023_preset();
+  Device model(p, link::WireVersion::kV1, 1, DeviceModel::kPlain);
+  const std::unique_ptr<Backend> rtl = rtl_device(p, link::WireVersion::kV1);
+  ASSERT_TRUE(rtl);
+  std::mt19937_64 rng(12);
+  std::vector<std::uint8_t> refused;
+  link::append_v1_bytes(link::encode_v1_word({0, 0, 400 * 8, 13, 0xF00}), refused);
+  std::vector<std::uint8_t> cut = random_v1_word(0, rng);
+  cut.resize(5);
+  std::vector<std::uint8_t> lost = random_v1_word(1, rng);
+  const std::vector<std::uint8_t> after_lost = random_v1_word(0, rng);
+  lost.insert(lost.end(), after_lost.begin(), after_lost.end());
+  lost.erase(lost.begin() + 3);
+  const std::vector<std::vector<std::uint8_t>> pieces = {random_v1_word(0, rng), refused, cut, {}, lost, {},
+                                                         random_v1_word(2, rng), random_v1_word(0, rng)};
+  int n = 0;
+  for (const std::vector<std::uint8_t>& piece : pieces) {
+    if (piece.empty()) {  // the host went away
+      model.end_of_stream();
+      rtl->end_of_stream();
+    } else {
+      model.transfer(piece);
+      rtl->transfer(piece);
+    }
+    expect_same_receiver(*rtl, model, "piece " + std::to_string(n++));
+  }
+  EXPECT_GT(model.receiver_stats().frames_rejected, 1u);  // the refused word and the cut one
+  EXPECT_GT(model.receiver_stats().worlds_replaced, 0u);
+  EXPECT_GT(model.receiver_stats().worlds_accepted, 3u);
 }
 
 // The equivalence catches a planted bug: the square-root unit's comparison flipped (TS_PLANT_SQRT_BUG) in an otherwise
@@ -261,6 +370,13 @@ TEST(DeviceRtl, RefusesWhatIsNotBuilt) {
   EXPECT_NE(three.error().find("not for wide with 3 workers on wire v3"), std::string::npos) << three.error();
   EXPECT_NE(three.error().find(rtl::rtl_builds()), std::string::npos) << three.error();
   EXPECT_FALSE(rtl::make_rtl_device(board_2023_preset(), link::WireVersion::kV3));
+  // On v1 only the board as it shipped, 10 workers.
+  DevicePreset seven = board_2023_preset();
+  seven.workers = 7;
+  const auto v1_seven = rtl::make_rtl_device(seven, link::WireVersion::kV1);
+  ASSERT_FALSE(v1_seven);
+  EXPECT_NE(v1_seven.error().find("board-2023 with 10 workers on wire v1"), std::string::npos) << v1_seven.error();
+  EXPECT_FALSE(rtl::make_rtl_device(wide_preset(), link::WireVersion::kV1));
   EXPECT_FALSE(rtl::make_rtl_device(path_preset(), link::WireVersion::kV2));
   rtl::RtlOptions fast;
   fast.spi_hz = rtl::kMaxSpiHz + 1;
@@ -270,6 +386,7 @@ TEST(DeviceRtl, RefusesWhatIsNotBuilt) {
   no_worker.vcd_worker = 10;
   EXPECT_FALSE(rtl::make_rtl_device(board_2023_preset(), link::WireVersion::kV2, no_worker));
   EXPECT_TRUE(rtl::make_rtl_device(board_2023_preset(), link::WireVersion::kV2));
+  EXPECT_TRUE(rtl::make_rtl_device(board_2023_preset(), link::WireVersion::kV1));
 }
 
 // The VCD: the top's pins always, one worker's inner signals only when asked, for the lines asked.

@@ -29,6 +29,35 @@ TEST(RtlCli, RenderDrawsWhatTheModelDraws) {
   EXPECT_FALSE(slurp(dir / "rtl.png").empty());
 }
 
+// The board as the report shipped it: board-2023 with its 10 workers on the v1 wire. The demo sphere's word through
+// the RTL's pins: the model's PNG file byte for byte, with the report's 60 late pixels on every line (a sphere
+// costs each of the 64 pixels of a worker's line 51 cycles, 3,264 of the 3,000).
+TEST(RtlCli, RenderTheBoardAsItShipped) {
+  const fs::path dir = scratch_dir("rtl_cli_");
+  const std::string board = "--scene demo --preset board-2023 --wire v1 --out ";
+  const Result model = render(board + (dir / "model.png").string(), dir, "model");
+  ASSERT_EQ(model.exit_code, 0) << model.err;
+  const Result rtl = render("--device rtl --spi-hz 12500000 " + board + (dir / "rtl.png").string(), dir, "rtl");
+  ASSERT_EQ(rtl.exit_code, 0) << rtl.err;
+  EXPECT_EQ(slurp(dir / "model.png"), slurp(dir / "rtl.png"));
+  EXPECT_FALSE(slurp(dir / "rtl.png").empty());
+  const std::string late = "device: 28800 late pixels on 480 lines";
+  EXPECT_NE(model.err.find(late), std::string::npos) << model.err;
+  EXPECT_NE(rtl.err.find(late), std::string::npos) << rtl.err;
+}
+
+// The artix device with one sphere unit on `cluster` (8 spheres, mirrors): the model's PNG file byte for byte.
+TEST(RtlCli, RenderTheArtixDevice) {
+  const fs::path dir = scratch_dir("rtl_cli_");
+  const std::string artix = "--scene cluster --preset artix --workers 1 --out ";
+  const Result model = render(artix + (dir / "model.png").string(), dir, "model");
+  ASSERT_EQ(model.exit_code, 0) << model.err;
+  const Result rtl = render("--device rtl --spi-hz 12500000 " + artix + (dir / "rtl.png").string(), dir, "rtl");
+  ASSERT_EQ(rtl.exit_code, 0) << rtl.err;
+  EXPECT_EQ(slurp(dir / "model.png"), slurp(dir / "rtl.png"));
+  EXPECT_FALSE(slurp(dir / "rtl.png").empty());
+}
+
 // A link file fed to the device alone: the same picture and the same receiver counts.
 TEST(RtlCli, LinkInputAsTheModel) {
   const fs::path dir = scratch_dir("rtl_cli_");

@@ -8,9 +8,13 @@
 // Verilator's headers are not warning-free under -Wextra.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-parameter"
+#include "Vts_artix_device_1.h"
+#include "Vts_artix_device_5.h"
+#include "Vts_artix_device_9.h"
 #include "Vts_device_board.h"
 #include "Vts_device_board_1.h"
 #include "Vts_device_board_7.h"
+#include "Vts_device_board_v1.h"
 #include "Vts_device_wide.h"
 #include "Vts_device_wide_1.h"
 #include "Vts_device_wide_7.h"
@@ -19,11 +23,21 @@
 namespace tripsitter::rtl {
 namespace {
 
+// A back-end around a new instance of one Verilated top.
+using Maker = std::unique_ptr<device::Backend> (*)(int half_bit, const RtlOptions& options,
+                                                   const std::string& worker_scope);
+
+template <class Top>
+std::unique_ptr<device::Backend> make_top(int half_bit, const RtlOptions& options, const std::string& worker_scope) {
+  return std::make_unique<RtlDevice<Top>>(half_bit, options, worker_scope);
+}
+
 // One Verilated build of ts_device: the preset and worker count its parameters were generated with (rtl/device/
-// CMakeLists.txt), and the wire its receiver speaks.
+// CMakeLists.txt), the wire its receiver speaks, and its top.
 struct Build {
   device::DevicePreset preset;
   link::WireVersion wire;
+  Maker make;
 };
 
 device::DevicePreset with_workers(device::DevicePreset p, int workers) {
@@ -33,12 +47,17 @@ device::DevicePreset with_workers(device::DevicePreset p, int workers) {
 
 const std::vector<Build>& builds() {
   static const std::vector<Build> all = {
-      {with_workers(device::board_2023_preset(), 10), link::WireVersion::kV2},
-      {with_workers(device::board_2023_preset(), 7), link::WireVersion::kV2},
-      {with_workers(device::board_2023_preset(), 1), link::WireVersion::kV2},
-      {with_workers(device::wide_preset(), 10), link::WireVersion::kV3},
-      {with_workers(device::wide_preset(), 7), link::WireVersion::kV3},
-      {with_workers(device::wide_preset(), 1), link::WireVersion::kV3},
+      {with_workers(device::board_2023_preset(), 10), link::WireVersion::kV2, make_top<Vts_device_board>},
+      {with_workers(device::board_2023_preset(), 7), link::WireVersion::kV2, make_top<Vts_device_board_7>},
+      {with_workers(device::board_2023_preset(), 1), link::WireVersion::kV2, make_top<Vts_device_board_1>},
+      // The board as the report shipped it.
+      {with_workers(device::board_2023_preset(), 10), link::WireVersion::kV1, make_top<Vts_device_board_v1>},
+      {with_workers(device::wide_preset(), 10), link::WireVersion::kV3, make_top<Vts_device_wide>},
+      {with_workers(device::wide_preset(), 7), link::WireVersion::kV3, make_top<Vts_device_wide_7>},
+      {with_workers(device::wide_preset(), 1), link::WireVersion::kV3, make_top<Vts_device_wide_1>},
+      {with_workers(device::artix_preset(), 9), link::WireVersion::kV3, make_top<Vts_artix_device_9>},
+      {with_workers(device::artix_preset(), 5), link::WireVersion::kV3, make_top<Vts_artix_device_5>},
+      {with_workers(device::artix_preset(), 1), link::WireVersion::kV3, make_top<Vts_artix_device_1>},
   };
   return all;
 }
@@ -49,7 +68,7 @@ bool same_hardware(const device::DevicePreset& a, const device::DevicePreset& b)
   const device::CycleCosts& q = b.costs;
   return a.x == b.x && a.y == b.y && a.z == b.z && a.radius == b.radius && a.sqrt_iterations == b.sqrt_iterations &&
          a.max_bounces == b.max_bounces && a.workers == b.workers && a.lead_cycles == b.lead_cycles &&
-         a.max_spheres == b.max_spheres && !a.path && !b.path && p.pipelined == q.pipelined &&
+         a.max_spheres == b.max_spheres && !a.path && !b.path && a.units == b.units && p.pipelined == q.pipelined &&
          p.pixel_setup == q.pixel_setup && p.sphere_test == q.sphere_test &&
          p.sqrt_cycles_per_iteration == q.sqrt_cycles_per_iteration && p.closest_update == q.closest_update &&
          p.shade == q.shade && p.reflect == q.reflect && p.issue_interval == q.issue_interval;
@@ -75,10 +94,10 @@ std::string rtl_builds() {
 core::Result<std::unique_ptr<device::Backend>, std::string> make_rtl_device(const device::DevicePreset& preset,
                                                                             link::WireVersion wire,
                                                                             const RtlOptions& options) {
-  std::size_t which = builds().size();
-  for (std::size_t i = 0; i < builds().size(); ++i)
-    if (same_hardware(builds()[i].preset, preset) && builds()[i].wire == wire) which = i;
-  if (which == builds().size())
+  const Build* build = nullptr;
+  for (const Build& b : builds())
+    if (same_hardware(b.preset, preset) && b.wire == wire) build = &b;
+  if (build == nullptr)
     return std::string("the RTL is built for ") + rtl_builds() + ", not for " + preset.name + " with " +
            workers(preset.workers) + " on wire " + wire_name(wire);
   if (options.spi_hz < 1 || options.spi_hz > kMaxSpiHz)
@@ -92,20 +111,12 @@ core::Result<std::unique_ptr<device::Backend>, std::string> make_rtl_device(cons
   if (!options.vcd.empty() && !std::ofstream(options.vcd))
     return options.vcd + ": cannot write the VCD file";
   const int half_bit = static_cast<int>((kClockHz + 2 * options.spi_hz - 1) / (2 * options.spi_hz));  // rounded up
+  // The traced worker: a worker of ts_device, or a sphere unit of ts_artix_device.
   const std::string worker =
-      options.vcd_worker < 0 ? "" : "TOP.ts_device.g_worker[" + std::to_string(options.vcd_worker) + "].worker";
-  // In the order of builds().
-  const auto make = [&]<class Top>() -> std::unique_ptr<device::Backend> {
-    return std::make_unique<RtlDevice<Top>>(half_bit, options, worker);
-  };
-  switch (which) {
-    case 0: return make.operator()<Vts_device_board>();
-    case 1: return make.operator()<Vts_device_board_7>();
-    case 2: return make.operator()<Vts_device_board_1>();
-    case 3: return make.operator()<Vts_device_wide>();
-    case 4: return make.operator()<Vts_device_wide_7>();
-    default: return make.operator()<Vts_device_wide_1>();
-  }
+      options.vcd_worker < 0 ? ""
+      : preset.units         ? "TOP.ts_artix_device.g_unit[" + std::to_string(options.vcd_worker) + "].unit"
+                             : "TOP.ts_device.g_worker[" + std::to_string(options.vcd_worker) + "].worker";
+  return build->make(half_bit, options, worker);
 }
 
 }  // namespace tripsitter::rtl
