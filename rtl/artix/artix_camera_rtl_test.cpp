@@ -101,10 +101,7 @@ class CameraRtl {
   };
 
   void tick() {
-    top_->clk = 0;
-    top_->eval();
-    top_->clk = 1;
-    top_->eval();
+    rising_edge(*top_);
     ++cycle_;
   }
 

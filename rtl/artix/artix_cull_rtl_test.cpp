@@ -120,10 +120,7 @@ class CullRtl {
     return kCoordMin + static_cast<std::int64_t>(junk_() % (std::uint64_t{1} << kCoordBits));
   }
   void tick() {
-    top_->clk = 0;
-    top_->eval();
-    top_->clk = 1;
-    top_->eval();
+    rising_edge(*top_);
   }
 
   VerilatedContext context_;

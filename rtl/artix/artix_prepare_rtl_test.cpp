@@ -103,10 +103,7 @@ class PrepareRtl {
 
  private:
   void tick() {
-    top_->clk = 0;
-    top_->eval();
-    top_->clk = 1;
-    top_->eval();
+    rising_edge(*top_);
   }
 
   void fault(std::int64_t r, const std::string& what) {

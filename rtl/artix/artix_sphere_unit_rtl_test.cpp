@@ -63,10 +63,7 @@ class SphereUnit {
   // One cycle with these inputs at the ports; returns whether a result came out in it.
   bool cycle() {
     const bool out = top_->out_valid != 0;
-    top_->clk = 1;
-    top_->eval();
-    top_->clk = 0;
-    top_->eval();
+    rising_edge(*top_);
     ++now_;
     return out;
   }

@@ -195,10 +195,7 @@ class TilesRtl {
   }
 
   void tick() {
-    top_->clk = 0;
-    top_->eval();
-    top_->clk = 1;
-    top_->eval();
+    rising_edge(*top_);
   }
 
   VerilatedContext context_;

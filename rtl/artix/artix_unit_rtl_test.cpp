@@ -46,12 +46,6 @@ template <class Top>
 std::map<std::int64_t, Write> run_line(Top& top, int unit, int units, const artix::UnitWorld& world, int row,
                                        bool& overflow) {
   const artix::RowTiles tiles = artix::row_tiles(world, row, device::DeviceUnits{}.tile_columns);
-  const auto tick = [&] {
-    top.clk = 1;
-    top.eval();
-    top.clk = 0;
-    top.eval();
-  };
   // The row's directions, written (as the camera generator does while the line before is shown) into the bank
   // the next start makes current.
   top.unit_id = static_cast<unsigned>(unit);
@@ -62,7 +56,7 @@ std::map<std::int64_t, Write> run_line(Top& top, int unit, int units, const arti
     top.dir_we = 1;
     top.dir_slot = static_cast<unsigned>(k);
     put(top.dir_d, pack3(artix::camera_direction(col, row), kDirW));
-    tick();
+    rising_edge(top);
   }
   top.dir_we = 0;
 
@@ -90,7 +84,7 @@ std::map<std::int64_t, Write> run_line(Top& top, int unit, int units, const arti
     tile_count = static_cast<unsigned>(list.size());
     tile_sphere = top.tile_pos < list.size() ? static_cast<unsigned>(list[top.tile_pos]) : 0u;
     sphere_addr = static_cast<int>(top.sphere_addr);
-    tick();
+    rising_edge(top);
   }
   overflow = top.overflow != 0;
   return writes;
@@ -124,12 +118,7 @@ void expect_line_equals_model(int unit, int units, const artix::UnitWorld& world
   if (!top) {
     top = std::make_unique<Top>(context.get());
     top->rst = 1;
-    for (int i = 0; i < 4; ++i) {
-      top->clk = 1;
-      top->eval();
-      top->clk = 0;
-      top->eval();
-    }
+    for (int i = 0; i < 4; ++i) rising_edge(*top);
     top->rst = 0;
   }
   bool overflow = false;

@@ -103,6 +103,7 @@ class RtlDevice final : public device::Backend {
     to_frame_start();
     watching_ = true;
     device::FrameStats stats;
+    stats.demand_known = false;
     std::vector<device::VgaSample> line(kLineSamples);
     std::size_t at = 0;
     for (int taken = 0; taken < kFrameSamples;) {

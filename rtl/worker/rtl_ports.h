@@ -29,6 +29,15 @@ void put(VlWide<Words>& port, UInt128 v) {
   for (std::size_t i = 0; i < Words; ++i) port[i] = i < 4 ? static_cast<EData>(v >> (32 * i)) : EData{0};
 }
 
+// One clock of a Verilated model with a `clk` input: the rising edge, after which its registers hold the new state.
+template <class Top>
+void rising_edge(Top& top) {
+  top.clk = 0;
+  top.eval();
+  top.clk = 1;
+  top.eval();
+}
+
 // The low `bits` bits set (all 64 from 63 on).
 inline std::int64_t mask(int bits) { return bits >= 63 ? -1 : (std::int64_t{1} << bits) - 1; }
 

@@ -123,10 +123,7 @@ class SqrtRtl {
     top_->eval();
   }
   void tick() {
-    top_->clk = 0;
-    top_->eval();
-    top_->clk = 1;
-    top_->eval();
+    rising_edge(*top_);
     ++cycle_;
   }
 

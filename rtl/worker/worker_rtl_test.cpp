@@ -135,10 +135,7 @@ class WorkerRtl {
     top_->eval();
   }
   void tick() {
-    top_->clk = 0;
-    top_->eval();
-    top_->clk = 1;
-    top_->eval();
+    rising_edge(*top_);
     ++cycle_;
   }
   // Scene memory's registered read: sphere `i`'s fields (zeros past the last sphere).

@@ -108,9 +108,11 @@ void report_resources(const modes::Frame& f, const device::DevicePreset& preset)
 }
 
 void report(const modes::Frame& f, int frames, const device::DevicePreset& preset) {
-  std::cerr << "device: " << f.device.late_pixels << " late pixels on " << f.device.late_lines
-            << " lines; the busiest line needs " << f.device.worst_line_cycles << " of its " << preset.lead_cycles
-            << " cycles" << (f.device.late_pixels > 0 && !preset.demand_exact() ? " or more" : "") << "\n";
+  std::cerr << "device: " << f.device.late_pixels << " late pixels on " << f.device.late_lines << " lines";
+  if (f.device.demand_known)
+    std::cerr << "; the busiest line needs " << f.device.worst_line_cycles << " of its " << preset.lead_cycles
+              << " cycles" << (f.device.late_pixels > 0 && !preset.demand_exact() ? " or more" : "");
+  std::cerr << "\n";
   if (f.frame_memory != nullptr && f.device.has_world && f.samples > 0) {
     std::cerr << "device: " << f.samples << " samples per pixel accumulated in frame memory over " << frames
               << (frames == 1 ? " frame" : " frames") << " (by pixels on time in every frame), " << f.device.rays

@@ -39,6 +39,7 @@ struct FrameStats {
   // needed from the start of its work to its last colour. At most the lead time when no line is late; above it a
   // lower bound unless DevicePreset::demand_exact(), then exact.
   std::int64_t worst_line_cycles = 0;
+  bool demand_known = true;  // false where no one counts it: the RTL's pins say which pixels are late, not when
   // The mirror model (zero otherwise): reflections traced for the pixels on time.
   std::uint64_t reflections = 0;
   // The path preset (zero otherwise): samples each pixel on time in every frame has accumulated (at most
