@@ -58,7 +58,7 @@
 # Runs on whatever tree it sits in (rtl/ beside it). Needs yosys (Debian: yosys) and awk. Logs, statistics and
 # netlists are kept in build/synth/. Times here, on 2 cores shared by several: `synth.sh board-2023` 1 min 29 s,
 # `synth.sh wide` 6 min 54 s (4 min 39 s of CPU, the depth walk included), `synth.sh artix` 1 min 59 s (1 min 54 s of
-# CPU), `synth.sh 12 artix` 3 min 15 s, `synth.sh table` 6 min 56 s for the three presets (6 min 28 s of CPU).
+# CPU), `synth.sh 12 artix` 3 min 15 s, `synth.sh table` 5 min 24 s for the three presets (5 min 8 s of CPU).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -227,7 +227,8 @@ chip() {
   local preset=$1 n=$2 lut ram ff dsp bram lut1 ram1 ff1 dsp1 bram1
   read -r lut ram ff dsp bram <<<"$(count "$3")"
   if [ -n "${4:-}" ]; then read -r lut1 ram1 ff1 dsp1 bram1 <<<"$(count "$4")"; else lut1=$lut ram1=$ram ff1=$ff dsp1=$dsp bram1=$bram; fi
-  awk -v n="$n" -v preset="$preset" -v one="${4:+1}" -v top="$(preset_top "$preset")" -v noun="$(preset_noun "$preset")" \
+  awk -v n="$n" -v preset="$preset" -v one="${4:+1}" \
+      -v top="$(preset_top "$preset")" -v noun="$(preset_noun "$preset")" \
       -v lut="$lut" -v ram="$ram" -v ff="$ff" -v dsp="$dsp" -v bram="$bram" \
       -v lut1="$lut1" -v ram1="$ram1" -v ff1="$ff1" -v dsp1="$dsp1" -v bram1="$bram1" 'BEGIN {
     printf "%s, %s, %d %ss, on the XC7A100T:\n", top, preset, n, noun
@@ -288,8 +289,8 @@ case "${1:-}" in
     done
     {
       echo "# What Yosys's synth_xilinx -family xc7 builds of each block of a preset's top (rtl/: ts_device, and"
-      echo "# ts_artix_device for artix), per instance, as the preset configures it. Regenerate with: scripts/synth.sh table"
-      echo "# ($(yosys -V))"
+      echo "# ts_artix_device for artix), per instance, as the preset configures it."
+      echo "# Regenerate with: scripts/synth.sh table   ($(yosys -V))"
       echo "# RTL: $(rtl_version)"
       echo "# Blocks: scripts/synth.sh's header; the ledger (src/tripsitter/device/resources.h, rtl_blocks) is held to"
       echo "# this table within 10% (DSP48E1, LUTs + LUT RAM, RAMB18) by src/tripsitter/device/resources_test.cpp."
@@ -305,7 +306,8 @@ case "${1:-}" in
     preset=$1
     n=$(preset_workers "$preset")
     top=$(preset_top "$preset")
-    echo "synthesising $top as $preset configures it ($n $(preset_noun "$preset")s; yosys synth_xilinx -family xc7; logs in $out/) ..." >&2
+    echo "synthesising $top as $preset configures it ($n $(preset_noun "$preset")s;" \
+         "yosys synth_xilinx -family xc7; logs in $out/) ..." >&2
     synth "$preset" "$n" flat
     chip "$preset" "$n" "$out/$preset-n$n.stat"
     echo "blocks (per instance; scripts/synth.sh's header says which modules each holds):"
@@ -319,7 +321,8 @@ case "${1:-}" in
     preset=${2:-board-2023}
     if ! [[ "$n" =~ ^[1-9][0-9]*$ ]] || ((n > 640)); then usage; fi
     preset_params "$preset" >/dev/null || { echo "$0: unknown preset '$preset' (wide, board-2023 or artix)" >&2; exit 2; }
-    echo "synthesising $(preset_top "$preset") ($preset) with $n $(preset_noun "$preset")s and with 1 (yosys synth_xilinx -family xc7; logs in $out/) ..." >&2
+    echo "synthesising $(preset_top "$preset") ($preset) with $n $(preset_noun "$preset")s and with 1" \
+         "(yosys synth_xilinx -family xc7; logs in $out/) ..." >&2
     synth "$preset" "$n"
     if ((n > 1)); then
       synth "$preset" 1

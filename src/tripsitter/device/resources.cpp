@@ -146,7 +146,10 @@ Resources resources(const DevicePreset& p) {
         luts += b.total_luts() * b.instances;
         ramb18 += b.ramb18 * b.instances;
       }
-      out.chip_limit = dsp > kBoardDsp ? "DSP48E1" : luts > kBoardLuts ? "LUTs" : ramb18 > kBoardRamb18 ? "block RAM" : "";
+      out.chip_limit = dsp > kBoardDsp         ? "DSP48E1"
+                       : luts > kBoardLuts       ? "LUTs"
+                       : ramb18 > kBoardRamb18   ? "block RAM"
+                                                 : "";
       if (!out.chip_limit.empty()) break;
       out.workers_fitting_chip = n;
     }
@@ -559,8 +562,8 @@ int saturate(int in_bits, int out_bits) { return 2 * compare_constant(in_bits) +
 // words in LUT RAM, its pointers counters with constant offsets (carry chains alone).
 void delay(RtlBlock& b, int width, int cycles) {
   if (cycles >= 3)
-    memory(b, "delay of " + std::to_string(width) + " bits by " + std::to_string(cycles), std::int64_t{1} << clog2(cycles),
-           width, Ports::kWriteRead);
+    memory(b, "delay of " + std::to_string(width) + " bits by " + std::to_string(cycles),
+           std::int64_t{1} << clog2(cycles), width, Ports::kWriteRead);
 }
 
 // ts_artix_fifo's pointers: the write and read positions (increments: carry chains alone), the count up and down,

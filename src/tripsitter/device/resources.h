@@ -100,8 +100,8 @@ WorkerBlocks worker_blocks(const DevicePreset& preset);
 // than 64 for each RAMB18 it would take).
 // LUTs: the block's adders, subtractors and comparators (a LUT a bit, on a carry chain), multiplexers (a LUT6
 // selects among 4), shifters, and the partial sums of products tiled in two directions, with the unit costs and the
-// few measured constants resources.cpp states beside each block; shift registers (the artix blocks' delays) and
-// LUT RAM as LUTs as memory.
+// few measured constants resources.cpp states beside each block; LUT RAM (the artix blocks' delays are rings in it)
+// and shift registers as LUTs as memory.
 
 // A product's DSP48E1 slices and fabric LUTs as Yosys tiles it: a 25 x 18 signed slice; a wider operand is cut into
 // 17-bit pieces (and an unsigned one made signed by a bit); pieces along one operand are summed in the slices'

@@ -147,6 +147,7 @@ Point evaluate(const Configuration& config, const scene::Scene& scene, const Eva
   m.dsp_per_worker = r.dsp_per_worker;
   m.dsp_shared = r.dsp_shared;
   m.dsp = r.dsp_per_worker * preset.workers + r.dsp_shared;
+  m.luts = r.luts;
   m.bram_kbit = static_cast<double>(r.bram_bits) / 1024.0;
   m.sram_bits_per_cycle = r.frame_memory_bits_per_cycle;
 

@@ -69,10 +69,11 @@ const std::vector<Field>& fields() {
       {{"dsp", "slices", "DSP48E1 slices"}, [](const Point& p) { return p.m.dsp; }},
       {{"dsp_per_worker", "slices", "DSP48E1 slices per worker"}, [](const Point& p) { return p.m.dsp_per_worker; }},
       {{"dsp_shared", "slices", "DSP48E1 slices shared by the workers"}, [](const Point& p) { return p.m.dsp_shared; }},
+      {{"luts", "LUTs", "LUTs as logic and memory (0: not counted)"}, [](const Point& p) { return p.m.luts; }},
       {{"bram_kbit", "Kbit", "block RAM needed"}, [](const Point& p) { return p.m.bram_kbit; }},
       {{"sram_bits_per_cycle", "bits/cycle", "external frame memory traffic"},
        only(true, [](const Point& p) { return p.m.sram_bits_per_cycle; })},
-      {{"fits", "", "fits the XC7A100T's DSPs and block RAM"}, [](const Point& p) { return p.fits(); }},
+      {{"fits", "", "fits the XC7A100T's DSPs, LUTs and block RAM"}, [](const Point& p) { return p.fits(); }},
   };
   return all;
 }
@@ -101,6 +102,7 @@ std::string csv_text(const Value& v) {
 }  // namespace
 
 bool Point::dsp_fits() const { return m.dsp <= device::kBoardDsp; }
+bool Point::lut_fits() const { return m.luts <= device::kBoardLuts; }
 bool Point::bram_fits() const { return m.bram_kbit * 1024 <= static_cast<double>(device::kBoardBramBits); }
 
 double Point::error() const {

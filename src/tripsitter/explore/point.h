@@ -68,6 +68,7 @@ struct Measurement {
   int dsp = 0;                // dsp_per_worker * workers + dsp_shared
   int dsp_per_worker = 0;
   int dsp_shared = 0;
+  int luts = 0;               // LUTs as logic and as memory: the ledger's RTL blocks (0 for a preset without)
   double bram_kbit = 0;       // block RAM the design needs, in whole 18-Kbit halves
   double sram_bits_per_cycle = 0;  // frame memory's traffic when it is external (0 otherwise)
 };
@@ -80,8 +81,9 @@ struct Point {
 
   bool on_time() const { return m.late_lines == 0; }
   bool dsp_fits() const;
+  bool lut_fits() const;  // true when the LUTs are not counted (luts 0)
   bool bram_fits() const;
-  bool fits() const { return dsp_fits() && bram_fits(); }
+  bool fits() const { return dsp_fits() && lut_fits() && bram_fits(); }
   // The error in one number for charts: percent of pixels differing (mirror presets) or relMSE (path).
   double error() const;
 };

@@ -30,9 +30,13 @@ std::string configuration_text(const Point& p) {
 }
 
 std::string cost_text(const Point& p) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, "%d DSP48E1 (%s the XC7A100T's %d), %.0f Kbit of block RAM%s", p.m.dsp,
-                p.dsp_fits() ? "fits" : "more than", device::kBoardDsp, p.m.bram_kbit,
+  char luts[96] = "";
+  if (p.m.luts > 0)
+    std::snprintf(luts, sizeof luts, ", %d LUTs (%s the XC7A100T's %d)", p.m.luts, p.lut_fits() ? "fits" : "more than",
+                  device::kBoardLuts);
+  char buf[320];
+  std::snprintf(buf, sizeof buf, "%d DSP48E1 (%s the XC7A100T's %d)%s, %.0f Kbit of block RAM%s", p.m.dsp,
+                p.dsp_fits() ? "fits" : "more than", device::kBoardDsp, luts, p.m.bram_kbit,
                 p.bram_fits() ? "" : " (more than the XC7A100T's 4,860)");
   return buf;
 }
