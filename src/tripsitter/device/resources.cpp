@@ -815,6 +815,17 @@ RtlBlock artix_tiles(const DevicePreset& p, const ArtixWidths& w) {
   return b;
 }
 
+// ts_line_buffers with a bank per unit or worker (both tops use it): two buffers of n banks, and the read choice and
+// write ports.
+void add_line_buffers(RtlBlock& b, int n) {
+  const int slots = (kLineWidth + n - 1) / n;
+  const int slot_w = slots > 1 ? clog2(slots) : 1;
+  for (int k = 0; k < 2 * n; ++k)
+    memory(b, std::string(k < n ? "line buffer 0, bank " : "line buffer 1, bank ") + std::to_string(k % n), slots, 13,
+           Ports::kWriteRead);
+  b.luts += mux(13, 2 * n) + 2 * n * (slot_w + 1) + 16;
+}
+
 // The blocks of ts_artix_device as `preset` configures it (scripts/synth.sh's header lists the modules of each).
 std::vector<RtlBlock> artix_blocks(const DevicePreset& p, int wire) {
   const ArtixWidths w = artix_widths(p);
@@ -826,12 +837,8 @@ std::vector<RtlBlock> artix_blocks(const DevicePreset& p, int wire) {
   // ts_line_buffers (a bank a unit in each of the two buffers: the read choice, the write ports) and ts_vga_timing.
   {
     RtlBlock b = named("scanout");
-    const int slots = (kLineWidth + n - 1) / n;
-    const int slot_w = slots > 1 ? clog2(slots) : 1;
-    for (int k = 0; k < 2 * n; ++k)
-      memory(b, std::string(k < n ? "line buffer 0, bank " : "line buffer 1, bank ") + std::to_string(k % n), slots, 13,
-             Ports::kWriteRead);
-    b.luts += mux(13, 2 * n) + 2 * n * (slot_w + 1) + 16 + 53;
+    add_line_buffers(b, n);
+    b.luts += 53;
     out.push_back(b);
   }
   for (RtlBlock b : {artix_unit(w), artix_sphere_unit(w, u), artix_shade_reflect(w, u)}) {
@@ -905,12 +912,7 @@ std::vector<RtlBlock> rtl_blocks(const DevicePreset& p, int wire) {
   // counts and pixels in flight; the line's sum of on-time counts; two line buffers split in a bank per worker.
   {
     RtlBlock b = named("scanout");
-    const int slots = (kLineWidth + n - 1) / n;
-    const int slot_w = slots > 1 ? clog2(slots) : 1;
-    for (int k = 0; k < 2 * n; ++k)
-      memory(b, std::string(k < n ? "line buffer 0, bank " : "line buffer 1, bank ") + std::to_string(k % n), slots, 13,
-             Ports::kWriteRead);
-    b.luts += mux(13, 2 * n) + 2 * n * (slot_w + 1) + 16;  // the line buffers: the read choice, write ports
+    add_line_buffers(b, n);
     // The controller (ts_controller, N = 10: 1,079 LUTs with board-2023's lead of 3,000 cycles, 1,084 with wide's
     // whole line; an earlier run counted 1,444 for wide's, the same RTL: Yosys's mapping moves with the design).
     b.luts += 100 * n + 130;
