@@ -86,6 +86,9 @@ module ts_artix_unit #(
   localparam int StateW = SlotW + RayW + SphereAW + 1 + 2 + 3 * TintW;
   localparam int CarryW = SphereAW + RadiusW + RinvW + 1 + 24;  // the hit sphere's index and shading fields
 
+  if (MinPass < 2) begin : g_bad_min_pass
+    $error("ts_artix_unit: a pass's first slot must not be its last (MinPass >= 2)");
+  end
   if ((1 << TileShift) != ts_artix_pkg::TileColumns) begin : g_bad_tiles
     $error("ts_artix_unit: tiles must be a power of two columns wide");
   end
@@ -120,6 +123,7 @@ module ts_artix_unit #(
   logic              run_q;       // inside the window
   logic              busy_q;      // a pass is issuing: slot_q is its next slot
   logic [IW-1:0]     slot_q;
+  logic [IW-1:0]     slot_p1_q;   // slot_q + 1
   logic              camera_q;    // the issuing pass is a camera ray's
   logic [SphereAW:0] count_q;     // its camera list's length (from its second slot on)
   logic              counted_q;   // count_q holds the issuing pass's
@@ -132,7 +136,6 @@ module ts_artix_unit #(
   logic [IW-1:0]     slot;
   logic              camera;
   logic [SphereAW:0] pass_count;
-  logic [IW-1:0]     pass_len;
   logic              dir_bank;
 
   // The camera pixel a pass takes in the window's first cycle is pixel 0.
@@ -148,9 +151,11 @@ module ts_artix_unit #(
   assign camera         = busy_q ? camera_q : take_camera;
   // A camera pass's length counts its tile list, known from the pass's second slot (the count arrives with entry
   // 0); both kinds take at least MinPass slots, so neither ends before its third.
-  assign pass_count = camera ? (counted_q ? count_q : tile_count) : spheres;
-  assign pass_len   = pass_count > (SphereAW + 1)'(MinPass) ? IW'(pass_count) : IW'(MinPass);
-  assign last       = (busy_q || take_reflected || take_camera) && slot >= IW'(MinPass - 1) && slot == pass_len - 1'b1;
+  // A pass's first slot is never its last (MinPass > 1), so `last` looks only at the issuing pass's registers:
+  // slot i is the last when i >= MinPass - 1 and i + 1 >= n (the slots count up from 0 one a cycle, so the first i
+  // that satisfies both is max(n, MinPass) - 1).
+  assign pass_count = camera_q ? (counted_q ? count_q : tile_count) : spheres;
+  assign last       = busy_q && slot_q >= IW'(MinPass - 1) && slot_p1_q >= IW'(pass_count);
 
   assign tile     = busy_q ? tile_q : 5'((start ? unit_id : next_col_q) >> TileShift);
   assign tile_pos = slot[SphereAW-1:0];
@@ -176,7 +181,8 @@ module ts_artix_unit #(
       camera_q <= take_camera;
       tile_q   <= tile;
     end
-    slot_q <= slot + 1'b1;
+    slot_q    <= slot + 1'b1;
+    slot_p1_q <= slot + IW'(2);
     if (busy_q && camera_q && !counted_q) count_q <= tile_count;
   end
 

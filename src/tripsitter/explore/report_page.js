@@ -540,7 +540,7 @@
     if (!entries.length) {
       root.appendChild(note('The summary names no cheapest configuration.'));
     } else {
-      root.appendChild(el('p', {class: 'what note', text: 'For each scene and preset, the summary\u2019s cheapest point whose every line met its deadline.'}));
+      root.appendChild(el('p', {class: 'what note', text: 'For each scene and preset, the summary\u2019s cheapest point that fits the ' + (board.name || 'FPGA') + ' and whose every line met its deadline.'}));
       const head = el('tr', {}, [el('th', {class: 'text', text: 'scene'}), el('th', {class: 'text', text: 'preset'}), el('th', {text: 'point'})]
         .concat(CHEAP_COLUMNS.map((n) => headerCell(n)), [el('th', {}, ['error', el('span', {class: 'unit', text: '% differing or relMSE'})]), headerCell('fits')]));
       const tbody = el('tbody');
@@ -550,7 +550,7 @@
         const preset = e.preset !== undefined && e.preset !== null ? String(e.preset) : p ? p.preset : '\u2013';
         const cells = [el('td', {class: 'text', text: scene}), el('td', {class: 'text', text: preset})];
         if (!p) {
-          const why = isNum(e.point) ? 'point #' + e.point + ' is not in this report' : 'none on time in this sweep';
+          const why = isNum(e.point) ? 'point #' + e.point + ' is not in this report' : 'none fits and is on time in this sweep';
           cells.push(el('td', {class: 'none', colspan: CHEAP_COLUMNS.length + 3, text: why}));
         } else {
           cells.push(el('td', {}, [pointLink(p.index)]));

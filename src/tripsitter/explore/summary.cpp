@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <set>
 #include <tuple>
 
+#include <tripsitter/device/preset.h>
 #include <tripsitter/device/resources.h>
 #include <tripsitter/explore/evaluate.h>
 #include <tripsitter/explore/sweep.h>
@@ -19,13 +21,16 @@ bool at_refresh_rate(const Point& p) { return p.m.fps >= refresh_hz() * (1 - 1e-
 
 std::string configuration_text(const Point& p) {
   const Configuration& c = p.config;
+  // The artix preset's parallel parts are sphere units shared by a line's pixels, not per-pixel workers.
+  const std::optional<device::DevicePreset> preset = device::preset_by_name(c.preset);
+  const char* parts = preset && preset->units ? "sphere units" : "workers";
   char buf[256];
   if (c.path())
-    std::snprintf(buf, sizeof buf, "%s, %d workers, %d spp, depth %d, %d %s", c.preset.c_str(), c.workers, c.spp,
+    std::snprintf(buf, sizeof buf, "%s, %d %s, %d spp, depth %d, %d %s", c.preset.c_str(), c.workers, parts, c.spp,
                   c.depth, c.frames, c.frames == 1 ? "frame" : "frames accumulated");
   else
-    std::snprintf(buf, sizeof buf, "%s, %d workers, %d fractional bits, %d sqrt iterations, %d bounces", c.preset.c_str(),
-                  c.workers, c.frac_bits, c.sqrt_iterations, c.bounces);
+    std::snprintf(buf, sizeof buf, "%s, %d %s, %d fractional bits, %d sqrt iterations, %d bounces", c.preset.c_str(),
+                  c.workers, parts, c.frac_bits, c.sqrt_iterations, c.bounces);
   return buf;
 }
 
@@ -65,7 +70,7 @@ Summary summarise(const std::vector<Point>& points) {
   for (const auto& [scene, preset] : pairs) {
     Finding f{scene, preset, std::nullopt};
     for (const Point& p : points) {
-      if (p.config.scene != scene || p.config.preset != preset || !p.on_time()) continue;
+      if (p.config.scene != scene || p.config.preset != preset || !p.on_time() || !p.fits()) continue;
       const auto rank = [](const Point& q) { return std::make_tuple(q.m.dsp, q.config.workers, q.error(), q.index); };
       if (!f.point || rank(p) < rank(points[static_cast<std::size_t>(*f.point)])) f.point = p.index;
     }
@@ -101,7 +106,7 @@ Summary summarise(const std::vector<Point>& points) {
     for (const Point& p : points)
       if (p.config == board) add(p.index, "the board as it shipped");
     for (const Finding& f : s.cheapest_on_time)
-      if (f.scene == scene && f.point) add(*f.point, "cheapest on time");
+      if (f.scene == scene && f.point) add(*f.point, "cheapest that fits and is on time");
     for (const Finding& f : s.sixty_hz)
       if (f.scene == scene && f.point) add(*f.point, "best path picture at 60 Hz");
     std::optional<int> most;
@@ -138,11 +143,12 @@ std::vector<std::string> describe(const Summary& summary, const std::vector<Poin
   std::vector<std::string> lines;
   for (const Finding& f : summary.cheapest_on_time) {
     if (!f.point) {
-      lines.push_back(f.scene + ", " + f.preset + ": no point of the sweep draws every line on time");
+      lines.push_back(f.scene + ", " + f.preset +
+                      ": no point of the sweep fits the XC7A100T and draws every line on time");
       continue;
     }
     const Point& p = points[static_cast<std::size_t>(*f.point)];
-    lines.push_back(f.scene + ": cheapest on time: " + configuration_text(p) + ": " + cost_text(p) + "; " +
+    lines.push_back(f.scene + ": cheapest that fits and is on time: " + configuration_text(p) + ": " + cost_text(p) + "; " +
                     error_text(p));
   }
   for (const Finding& f : summary.sixty_hz) {

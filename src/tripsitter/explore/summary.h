@@ -1,5 +1,5 @@
 // What a sweep found, in a few lines (docs/explore.md, "The summary"): for each scene and preset the cheapest
-// configuration that meets every line deadline, for each scene the path preset's best picture at the monitor's
+// configuration that fits the XC7A100T and meets every line deadline, for each scene the path preset's best picture at the monitor's
 // rate, and the points whose frames the report shows. The page draws it as a table; `explore` prints it.
 #pragma once
 
@@ -25,14 +25,15 @@ struct Thumbnail {
 };
 
 struct Summary {
-  // Per scene and preset, in the order first met: of the points with every line on time, the one with the
-  // fewest DSP slices (then fewer workers, then the smaller error, then the earlier).
+  // Per scene and preset, in the order first met: of the points that fit the XC7A100T (Point::fits: DSP48E1,
+  // LUTs and block RAM) and draw every line on time, the one with the fewest DSP slices (then fewer workers, then
+  // the smaller error, then the earlier).
   std::vector<Finding> cheapest_on_time;
   // Per scene with path points: of the path points drawing complete frames at the monitor's rate (fps at the
   // refresh rate) and fitting the XC7A100T, the one with the most samples per frame (spp x depth; then the fewest
   // DSPs); none when no path point does.
   std::vector<Finding> sixty_hz;
-  // At most 12 points, by scene: the board's choice (board-2023 as it shipped), each cheapest on-time point, each
+  // At most 12 points, by scene: the board's choice (board-2023 as it shipped), each cheapest_on_time point, each
   // sixty_hz point and the path point with the most samples per frame.
   std::vector<Thumbnail> thumbnails;
 };

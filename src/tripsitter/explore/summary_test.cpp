@@ -41,6 +41,23 @@ TEST(Summary, CheapestOnTimeIsTheFewestDspsOfThePointsOnTime) {
   EXPECT_NE(lines[0].find("12 workers"), std::string::npos) << lines[0];
 }
 
+TEST(Summary, TheCheapestOnTimeMustFitTheChip) {
+  Configuration wide = preset_configuration("cluster", "wide");
+  std::vector<Point> points;
+  for (int w : {2, 5}) {
+    Configuration c = wide;
+    c.workers = w;
+    points.push_back(point(static_cast<int>(points.size()), c, 0, 134 * w));  // both on time
+  }
+  points[0].m.luts = 200'000;  // the cheaper one's LUTs do not fit
+  const Summary s = summarise(points);
+  ASSERT_EQ(s.cheapest_on_time.size(), 1u);
+  EXPECT_FALSE(s.cheapest_on_time[0].point);  // 5 workers: 670 DSP48E1, more than 240
+  EXPECT_NE(describe(s, points)[0].find("fits the XC7A100T"), std::string::npos) << describe(s, points)[0];
+  points[1].m.dsp = 200;
+  EXPECT_EQ(summarise(points).cheapest_on_time[0].point, 1);
+}
+
 TEST(Summary, NoPointOnTimeIsSaid) {
   const std::vector<Point> points{point(0, preset_configuration("demo", "wide"), 3, 100)};
   const Summary s = summarise(points);
