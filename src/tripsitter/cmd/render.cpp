@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <system_error>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -124,23 +125,10 @@ void report(const modes::Frame& f, int frames, const device::DevicePreset& prese
   if (f.spheres_dropped > 0) std::cerr << "host: " << f.spheres_dropped << " spheres beyond scene memory were not sent\n";
 }
 
-// Whether hw mode path-traces with this preset and wire (v1 words are normal-shaded on any preset).
-bool path_traced(const device::DevicePreset& preset, link::WireVersion wire) {
-  return preset.path.has_value() && wire != link::WireVersion::kV1;
-}
-
 // --compare of a path-tracing preset: frame memory's linear mean against the float path tracer of the device's
 // rays, over the pixels with samples.
-void compare_path(const RenderOptions& o, const modes::SourceConfig& config, const modes::Frame& frame, int frames) {
-  modes::PathComparisonSettings settings;
-  settings.reference_spp = o.reference_spp > 0 ? o.reference_spp : modes::default_reference_spp(frame.samples);
-  settings.seed = o.seed;
-  settings.threads = o.threads;
-  const auto row_samples = static_cast<std::uint64_t>(core::kScreenWidth) * static_cast<std::uint64_t>(settings.reference_spp);
-  core::ProgressBar bar("reference", row_samples * core::kScreenHeight, "samples", !o.quiet, std::cerr);
-  settings.on_row = [&](int) { bar.add(row_samples); };
-  const modes::PathComparison c = modes::compare_device_path(frame, config.preset, settings);
-  bar.finish();
+void print_path_comparison(const RenderOptions& o, const modes::SourceConfig& config, const modes::PathComparison& c,
+                           int frames) {
   // By what the camera ray meets first: the sky, or a sphere of each material.
   std::vector<std::pair<std::string, modes::PartComparison>> parts{{"sky", c.sky}};
   for (auto type : {scene::MaterialType::kLambertian, scene::MaterialType::kMetal, scene::MaterialType::kDielectric})
@@ -183,6 +171,47 @@ void compare_path(const RenderOptions& o, const modes::SourceConfig& config, con
     std::printf("    %-10s %7zu pixels: mean relative bias %+.4f (%+.2f%%), relative MSE %.5f\n", name.c_str(),
                 part.pixels, part.figures.mean_relative_bias, 100 * part.figures.mean_relative_bias, part.figures.relmse);
   }
+}
+
+// --compare of a normal-shaded device: its VGA frame against the float renderer's, level by level.
+void print_shaded_comparison(const RenderOptions& o, const modes::SourceConfig& config, const core::ImageDiff& d,
+                             const modes::Frame& frame) {
+  if (o.json) {
+    const nlohmann::json doc = {{"scene", o.scene},
+                                {"preset", config.preset.name},
+                                {"pixels", d.pixels},
+                                {"differing", d.differing},
+                                {"over_one_level", d.over_one_level},
+                                {"max_level_difference", d.max_level_difference},
+                                {"late_pixels", frame.device.late_pixels},
+                                {"late_lines", frame.device.late_lines}};
+    std::printf("%s\n", doc.dump(2).c_str());
+    return;
+  }
+  std::printf("vs float reference: %zu of %zu pixels differ (%.3f%%), %zu by more than one level, at most %d levels\n",
+              d.differing, d.pixels, 100.0 * static_cast<double>(d.differing) / static_cast<double>(d.pixels),
+              d.over_one_level, d.max_level_difference);
+}
+
+// --compare: modes::compare_device decides what the frame is compared with; a path reference shows its progress.
+void compare(const RenderOptions& o, const scene::Scene& scene, const modes::SourceConfig& config,
+             const modes::Frame& frame, int frames) {
+  modes::PathComparisonSettings settings;
+  settings.reference_spp = o.reference_spp > 0 ? o.reference_spp : modes::default_reference_spp(frame.samples);
+  settings.seed = o.seed;
+  settings.threads = o.threads;
+  const auto row_samples = static_cast<std::uint64_t>(core::kScreenWidth) * static_cast<std::uint64_t>(settings.reference_spp);
+  std::optional<core::ProgressBar> bar;
+  if (device::traces_paths(config.preset, config.wire)) {
+    bar.emplace("reference", row_samples * core::kScreenHeight, "samples", !o.quiet, std::cerr);
+    settings.on_row = [&](int) { bar->add(row_samples); };
+  }
+  const modes::DeviceComparison c = modes::compare_device(scene, config, frame, settings);
+  if (bar) bar->finish();
+  if (const auto* path = std::get_if<modes::PathComparison>(&c))
+    print_path_comparison(o, config, *path, frames);
+  else
+    print_shaded_comparison(o, config, std::get<core::ImageDiff>(c), frame);
 }
 
 // --aov DIR: the feature buffers as albedo.png, normal.png and depth.png (render/aov.h says how each is drawn).
@@ -297,30 +326,7 @@ int run_render(const RenderOptions& o) {
     std::cerr << "device (RTL): simulated in "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()
               << " s, the world's transfer and the frames to its first one included\n";
-  if (o.compare && path_traced(config.preset, config.wire)) {
-    compare_path(o, config, frame, frames);
-  } else if (o.compare) {
-    // The float reference of the same world from the same camera: normal mode's frame.
-    modes::SourceConfig reference = config;
-    reference.mode = modes::Mode::kNormal;
-    reference.probe = {};
-    const core::ImageDiff d = core::diff(frame.vga, modes::make_frame_source(scene, reference)->draw().vga);
-    if (o.json) {
-      const nlohmann::json doc = {{"scene", o.scene},
-                                  {"preset", config.preset.name},
-                                  {"pixels", d.pixels},
-                                  {"differing", d.differing},
-                                  {"over_one_level", d.over_one_level},
-                                  {"max_level_difference", d.max_level_difference},
-                                  {"late_pixels", frame.device.late_pixels},
-                                  {"late_lines", frame.device.late_lines}};
-      std::printf("%s\n", doc.dump(2).c_str());
-    } else {
-      std::printf("vs float reference: %zu of %zu pixels differ (%.3f%%), %zu by more than one level, at most %d levels\n",
-                  d.differing, d.pixels, 100.0 * static_cast<double>(d.differing) / static_cast<double>(d.pixels),
-                  d.over_one_level, d.max_level_difference);
-    }
-  }
+  if (o.compare) compare(o, scene, config, frame, frames);
   write_image(o.out, frame, o);
   keep(vcd.get(), o.vcd);
   return kExitOk;
@@ -335,7 +341,7 @@ void check_options(const RenderOptions& o, modes::Mode mode) {
   const link::WireVersion wire = parse_wire(o.wire);
   const device::DevicePreset preset =
       load_preset(o.preset, o.workers, o.bounces, mode == Mode::kHw ? o.spp : 0, mode == Mode::kHw ? o.depth : 0);
-  const bool traced = mode == Mode::kHw && path_traced(preset, wire);
+  const bool traced = mode == Mode::kHw && device::traces_paths(preset, wire);
   if (mode == Mode::kHw && ((o.width != 0 && o.width != 640) || (o.height != 0 && o.height != 480)))
     throw InputError("--mode hw draws the VGA monitor's 640x480 only; other sizes need --mode normal or path");
   if (mode != Mode::kHw && !o.vcd.empty()) throw InputError("--vcd needs --mode hw (the float renderers have no VGA signal)");

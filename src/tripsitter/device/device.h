@@ -94,7 +94,7 @@ class Device final : public Backend {
   void start_line(int line);
   // The path preset at vertical blanking: a world of new content starts a new epoch in frame memory.
   void next_path_frame(bool swapped);
-  bool path_traced() const { return memory_ && wire_ != link::WireVersion::kV1 && scene_.valid; }
+  bool path_traced() const { return traces_paths(preset_, wire_) && scene_.valid; }
 
   DevicePreset preset_;
   link::WireVersion wire_;

@@ -167,6 +167,10 @@ DevicePreset artix_preset() {
   return p;
 }
 
+bool traces_paths(const DevicePreset& preset, link::WireVersion wire) {
+  return preset.path.has_value() && wire != link::WireVersion::kV1;
+}
+
 std::vector<std::string> preset_names() { return {"wide", "board-2023", "path", "artix"}; }
 
 std::optional<DevicePreset> preset_by_name(std::string_view name) {

@@ -12,6 +12,7 @@
 #include <tripsitter/core/fixed.h>
 #include <tripsitter/core/screen.h>
 #include <tripsitter/core/sphere_kernel.h>
+#include <tripsitter/link/wire.h>
 
 namespace tripsitter::device {
 
@@ -140,6 +141,11 @@ DevicePreset path_preset();
 
 // "artix": the XC7A100T's datapath: sphere units sized to the DSP48E1, shared by a line's rays, mirrors.
 DevicePreset artix_preset();
+
+// Whether the device path-traces with this preset on this wire: the path preset's frames on a framed wire (v2, v3);
+// v1's words carry no materials, so every preset normal-shades them. The one home of that rule: the device, the
+// frame sources, render, the window and explore ask it.
+bool traces_paths(const DevicePreset& preset, link::WireVersion wire);
 
 std::vector<std::string> preset_names();
 std::optional<DevicePreset> preset_by_name(std::string_view name);

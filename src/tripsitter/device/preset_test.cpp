@@ -88,5 +88,15 @@ TEST(Preset, ShippedPresetsTraceNoLatePixelsAndKeepFrameMemoryOutside) {
   }
 }
 
+// The path preset path-traces on the framed wires only; the others never do.
+TEST(Preset, OnlyThePathPresetOnAFramedWireTracesPaths) {
+  for (const std::string& name : preset_names()) {
+    const DevicePreset p = *preset_by_name(name);
+    EXPECT_FALSE(traces_paths(p, link::WireVersion::kV1)) << name;
+    EXPECT_EQ(traces_paths(p, link::WireVersion::kV2), name == "path") << name;
+    EXPECT_EQ(traces_paths(p, link::WireVersion::kV3), name == "path") << name;
+  }
+}
+
 }  // namespace
 }  // namespace tripsitter::device

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <memory>
+#include <variant>
 
 #include <tripsitter/core/screen.h>
 #include <tripsitter/device/resources.h>
@@ -109,28 +111,27 @@ Point evaluate(const Configuration& config, const scene::Scene& scene, const Eva
   const std::uint64_t pixels = std::uint64_t{core::kScreenWidth} * core::kScreenHeight;
   m.pixels = pixels;
 
-  const bool traced = preset.path.has_value() && source.wire != link::WireVersion::kV1;
-  device::Operations ops;
-  if (traced) {
-    modes::PathComparisonSettings compare;
-    compare.reference_spp = settings.reference_spp;
-    compare.seed = settings.seed;
-    compare.threads = 1;
-    const auto reference = references.get(
+  modes::PathComparisonSettings compare;
+  compare.reference_spp = settings.reference_spp;
+  compare.seed = settings.seed;
+  compare.threads = 1;
+  std::shared_ptr<const render::ImageRgbF> reference;
+  if (device::traces_paths(preset, source.wire)) {
+    reference = references.get(
         {world_key(frame, preset.frac_bits()), preset.path->depth, settings.reference_spp, settings.seed},
         [&] { return modes::device_path_reference(frame, preset, compare); });
     compare.reference = reference.get();
-    const modes::PathComparison c = modes::compare_device_path(frame, preset, compare);
-    m.relmse = c.figures.relmse;
-    m.bias = c.figures.mean_relative_bias;
-    m.reference_spp = c.reference_spp;
-    m.pixels = c.pixels_compared;
+  }
+  const modes::DeviceComparison c = modes::compare_device(scene, source, frame, compare);
+  device::Operations ops;
+  if (const auto* path = std::get_if<modes::PathComparison>(&c)) {
+    m.relmse = path->figures.relmse;
+    m.bias = path->figures.mean_relative_bias;
+    m.reference_spp = path->reference_spp;
+    m.pixels = path->pixels_compared;
     ops = device::path_operations_per_pixel(preset, d.path, static_cast<std::int64_t>(m.spheres), pixels);
   } else {
-    // The float reference of the same world from the same camera: normal mode's frame, as `render --compare`.
-    modes::SourceConfig reference = source;
-    reference.mode = modes::Mode::kNormal;
-    const core::ImageDiff diff = core::diff(frame.vga, modes::make_frame_source(scene, reference)->draw().vga);
+    const core::ImageDiff& diff = std::get<core::ImageDiff>(c);
     m.pixels = diff.pixels;
     m.differing = diff.differing;
     m.over_one_level = diff.over_one_level;

@@ -31,7 +31,7 @@ App::App(AppConfig config) : config_(std::move(config)) {
   c.row_step = config_.row_step;
   source_ = modes::make_frame_source(config_.scene, c);
   info_.spheres = config_.scene.spheres.size();
-  info_.device_path = config_.mode == Mode::kHw && config_.preset.path && config_.wire != link::WireVersion::kV1;
+  info_.device_path = config_.mode == Mode::kHw && device::traces_paths(config_.preset, config_.wire);
   info_.workers = config_.preset.workers;
   render_frame();
 }

@@ -92,8 +92,7 @@ const ReadyWorld& Host::update() {
     for (const auto& v : view) world.spheres.push_back(to_wire(v, formats_, next.saturations));
     next.bytes = link::encode_frame(wire_, world);
   }
-  total_saturations_.coordinates += next.saturations.coordinates;
-  total_saturations_.radii += next.saturations.radii;
+  total_saturations_ += next.saturations;
   ready_ = std::move(next);
   return ready_;
 }

@@ -23,6 +23,13 @@ struct Saturations {
   std::uint64_t radii = 0;        // radii clamped (or, on v1, outside 2^0..2^63)
   std::uint64_t iors = 0;         // dielectrics' indices of refraction clamped to the device's range
   std::uint64_t total() const { return coordinates + radii + iors; }
+  // Every kind added: the one place where counts of several worlds are summed.
+  Saturations& operator+=(const Saturations& o) {
+    coordinates += o.coordinates;
+    radii += o.radii;
+    iors += o.iors;
+    return *this;
+  }
 };
 
 // What one update produced.

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <tripsitter/link/frame.h>
 #include <tripsitter/link/sequence.h>
 #include <tripsitter/scene/builtin.h>
 
@@ -43,6 +44,34 @@ TEST(Host, EncodesV3FramesForTheLinkToNumber) {
   EXPECT_EQ(numbered.value().session, 77u);
   EXPECT_EQ(numbered.value().sequence, 2u);
   EXPECT_EQ(numbered.value().spheres, unnumbered.value().spheres);
+}
+
+// Each kind of clamp is counted in the update's saturations and in the totals over updates (link encode prints
+// the totals): a coordinate, a radius and a dielectric's index of refraction out of the formats' ranges.
+TEST(Host, TotalsCountEveryKindOfSaturation) {
+  scene::Scene s = *scene::builtin("demo");
+  s.spheres[0].radius = 1e9;  // beyond the radius format
+  scene::Sphere far = s.spheres[0];
+  far.radius = 1;
+  far.center = {1e9, 0, 0};  // its x beyond the coordinate format
+  s.spheres.push_back(far);
+  scene::Sphere glass = s.spheres[0];
+  glass.radius = 1;
+  glass.material.type = scene::MaterialType::kDielectric;
+  glass.material.ior = 3.0;  // above the device's range below
+  s.spheres.push_back(glass);
+  link::SceneFormats formats = kWide;
+  formats.ior_max = static_cast<std::uint16_t>(2.0 * link::kIorScale);
+  Host h(s, formats, link::WireVersion::kV2);
+  const Saturations first = h.update().saturations;
+  EXPECT_EQ(first.coordinates, 1u);
+  EXPECT_EQ(first.radii, 1u);
+  EXPECT_EQ(first.iors, 1u);
+  h.update();
+  EXPECT_EQ(h.total_saturations().coordinates, 2u);
+  EXPECT_EQ(h.total_saturations().radii, 2u);
+  EXPECT_EQ(h.total_saturations().iors, 2u);
+  EXPECT_EQ(h.total_saturations().total(), 6u);
 }
 
 TEST(Host, WorldUpIsScreenUp) {

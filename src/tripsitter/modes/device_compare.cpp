@@ -131,4 +131,14 @@ PathComparison compare_device_path(const Frame& frame, const device::DevicePrese
   return out;
 }
 
+DeviceComparison compare_device(const scene::Scene& scene, const SourceConfig& config, const Frame& frame,
+                                const PathComparisonSettings& path_settings) {
+  if (device::traces_paths(config.preset, config.wire)) return compare_device_path(frame, config.preset, path_settings);
+  SourceConfig reference = config;
+  reference.mode = Mode::kNormal;
+  reference.probe = {};
+  reference.make_device = {};
+  return core::diff(frame.vga, make_frame_source(scene, reference)->draw().vga);
+}
+
 }  // namespace tripsitter::modes

@@ -1,15 +1,19 @@
-// The device's path-traced picture against the float path tracer of the device's own rays (`tripsitter render
-// --mode hw --preset path --compare`): what the device accumulated in frame memory, as linear light, compared
-// with render::render_device_view of the world in its scene memory, under the same sky and with the same number
-// of rays per path.
+// A device's frame against the float renderers (`tripsitter render --mode hw --compare`, and each point of
+// `tripsitter explore`): compare_device decides how. A normal-shaded frame is compared level by level with the
+// float renderer's frame of the same world from the same camera. A path-traced picture (the path preset on a
+// framed wire), what the device accumulated in frame memory as linear light, is compared with
+// render::render_device_view of the world in its scene memory, under the same sky and with the same number of
+// rays per path.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <variant>
 #include <vector>
 
+#include <tripsitter/core/image.h>
 #include <tripsitter/device/frame_memory.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/scene_memory.h>
@@ -85,5 +89,12 @@ render::ImageRgbF device_path_reference(const Frame& frame, const device::Device
 // Throws std::invalid_argument for a frame without frame memory or a preset without path.
 PathComparison compare_device_path(const Frame& frame, const device::DevicePreset& preset,
                                    const PathComparisonSettings& settings);
+
+// The comparison `--compare` makes of an hw frame drawn from `scene` with `config` (the frame source's): on a
+// preset and wire that trace paths (device::traces_paths) compare_device_path with `path_settings`, otherwise the
+// frame's VGA image against normal mode's frame of the same world and camera.
+using DeviceComparison = std::variant<core::ImageDiff, PathComparison>;
+DeviceComparison compare_device(const scene::Scene& scene, const SourceConfig& config, const Frame& frame,
+                                const PathComparisonSettings& path_settings);
 
 }  // namespace tripsitter::modes

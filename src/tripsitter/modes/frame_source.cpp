@@ -32,7 +32,7 @@ class HwSource final : public FrameSource {
       : FrameSource(Mode::kHw),
         board_(scene, board_config(c)),
         probe_(c.probe),
-        accumulates_(c.preset.path.has_value() && c.wire != link::WireVersion::kV1),
+        accumulates_(device::traces_paths(c.preset, c.wire)),
         spp_(c.preset.path ? c.preset.path->spp : 0) {}
 
   const host::Camera& camera() const override { return board_.host().camera(); }
