@@ -45,6 +45,7 @@ IncludeRules include_rules() {
       {"cluster", {"render", "scene", "core"}},
       {"board", {"host", "link", "device", "display", "scene", "core"}},
       {"modes", {"board", "render", "host", "device", "display", "link", "scene", "core", "cluster"}},
+      {"approx", {"device", "core"}},  // the approximations' benchmark: the device's code and its rivals
   };
   code["frontend"] = code["modes"];
   code["frontend"].insert("modes");

@@ -2,7 +2,7 @@
 // docs/device.md holds ("Approximations").
 #include <iostream>
 
-#include <tripsitter/device/approx_bench.h>
+#include <tripsitter/approx/approx_bench.h>
 
 #include "commands.h"
 #include "common.h"
@@ -16,7 +16,7 @@ void add_approx_command(CLI::App& app, Action& run) {
                      "feeds it, its cycles, multiplies and table bits")
       ->callback([&run] {
         run = [] {
-          std::cout << device::approx_bench::approximations_table();
+          std::cout << approx_bench::approximations_table();
           return std::cout.flush() ? kExitOk : kExitInternal;
         };
       });

@@ -1,4 +1,4 @@
-#include <tripsitter/device/approx_bench.h>
+#include <tripsitter/approx/approx_bench.h>
 
 #include <filesystem>
 #include <fstream>
@@ -12,8 +12,14 @@
 
 #include <tripsitter/device/frame_memory.h>
 
-namespace tripsitter::device::approx_bench {
+namespace tripsitter::approx_bench {
 namespace {
+
+using device::AccumEntry;
+using device::display_colour;
+using device::display_mean;
+using device::kMaxSamples;
+using device::kSampleBits;
 
 const std::vector<Operation>& operations() {
   static const std::vector<Operation> ops = evaluate();
@@ -119,4 +125,4 @@ TEST(ApproxBench, TheDocumentHoldsTheTable) {
 }
 
 }  // namespace
-}  // namespace tripsitter::device::approx_bench
+}  // namespace tripsitter::approx_bench

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace tripsitter::device::approx_bench {
+namespace tripsitter::approx_bench {
 
 // `count` multiplies of an a-bit by a b-bit unsigned operand (a sign, where there is one, aside).
 struct Multiply {
@@ -56,4 +56,4 @@ std::string markdown(const std::vector<Operation>& operations);
 // markdown(evaluate()): what `tripsitter approx` prints and docs/device.md holds.
 std::string approximations_table();
 
-}  // namespace tripsitter::device::approx_bench
+}  // namespace tripsitter::approx_bench
