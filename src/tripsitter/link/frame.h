@@ -94,7 +94,7 @@ std::size_t frame_bytes(WireVersion wire, std::size_t spheres);
 std::vector<std::uint8_t> encode_frame(WireVersion wire, const World& world);
 
 // Gives an encoded frame another session (v3 only) and sequence number, and fixes its CRCs: what the host's
-// link does to each world as it starts to go out (numbering.h). REQUIRES `frame` to be a whole frame that
+// link does to each world as it starts to go out (sequence.h, Numbering). REQUIRES `frame` to be a whole frame that
 // encode_frame(wire, ...) made.
 void restamp_frame(WireVersion wire, std::span<std::uint8_t> frame, std::uint32_t session, std::uint32_t sequence);
 
