@@ -18,6 +18,12 @@ struct Field {
   std::function<Value(const Point&)> value;
 };
 
+// A column of the point's Configuration.
+Field configuration(Column column, std::function<Value(const Point&)> value) {
+  column.configuration = true;
+  return {std::move(column), std::move(value)};
+}
+
 // Null unless the point is of the path preset (path == true) or of a mirror preset (path == false).
 template <class F>
 std::function<Value(const Point&)> only(bool path, F f) {
@@ -27,20 +33,20 @@ std::function<Value(const Point&)> only(bool path, F f) {
 const std::vector<Field>& fields() {
   static const std::vector<Field> all = {
       {{"index", "", "the point's place in the sweep"}, [](const Point& p) { return p.index; }},
-      {{"scene", "", "built-in scene or scene file"}, [](const Point& p) { return p.config.scene; }},
-      {{"preset", "", "device preset the point starts from"}, [](const Point& p) { return p.config.preset; }},
-      {{"workers", "", "ray-tracing workers"}, [](const Point& p) { return p.config.workers; }},
-      {{"frac_bits", "bits", "fractional bits of x, y, z and radius"}, [](const Point& p) { return p.config.frac_bits; }},
-      {{"sqrt_iterations", "", "square-root unit iterations"}, [](const Point& p) { return p.config.sqrt_iterations; }},
-      {{"bounces", "", "mirror bounces"}, only(false, [](const Point& p) { return p.config.bounces; })},
-      {{"capacity", "spheres", "scene memory capacity"}, [](const Point& p) { return p.config.capacity; }},
-      {{"spp", "", "samples per pixel per frame"}, only(true, [](const Point& p) { return p.config.spp; })},
-      {{"depth", "", "rays per path"}, only(true, [](const Point& p) { return p.config.depth; })},
-      {{"frames", "", "frames of the still world drawn"}, [](const Point& p) { return p.config.frames; }},
-      {{"spi_mhz", "MHz", "SPI clock"}, [](const Point& p) { return static_cast<double>(p.config.spi_hz) / 1e6; }},
-      {{"transfer_bytes", "bytes", "largest SPI transfer"}, [](const Point& p) { return p.config.transfer_bytes; }},
-      {{"frame_memory", "", "where frame memory lives"}, only(true, [](const Point& p) { return p.config.frame_memory; })},
-      {{"wire", "", "link wire format"}, [](const Point& p) { return p.config.wire; }},
+      configuration({"scene", "", "built-in scene or scene file"}, [](const Point& p) { return p.config.scene; }),
+      configuration({"preset", "", "device preset the point starts from"}, [](const Point& p) { return p.config.preset; }),
+      configuration({"workers", "", "ray-tracing workers"}, [](const Point& p) { return p.config.workers; }),
+      configuration({"frac_bits", "bits", "fractional bits of x, y, z and radius"}, [](const Point& p) { return p.config.frac_bits; }),
+      configuration({"sqrt_iterations", "", "square-root unit iterations"}, [](const Point& p) { return p.config.sqrt_iterations; }),
+      configuration({"bounces", "", "mirror bounces"}, only(false, [](const Point& p) { return p.config.bounces; })),
+      configuration({"capacity", "spheres", "scene memory capacity"}, [](const Point& p) { return p.config.capacity; }),
+      configuration({"spp", "", "samples per pixel per frame"}, only(true, [](const Point& p) { return p.config.spp; })),
+      configuration({"depth", "", "rays per path"}, only(true, [](const Point& p) { return p.config.depth; })),
+      configuration({"frames", "", "frames of the still world drawn"}, [](const Point& p) { return p.config.frames; }),
+      configuration({"spi_mhz", "MHz", "SPI clock"}, [](const Point& p) { return static_cast<double>(p.config.spi_hz) / 1e6; }),
+      configuration({"transfer_bytes", "bytes", "largest SPI transfer"}, [](const Point& p) { return p.config.transfer_bytes; }),
+      configuration({"frame_memory", "", "where frame memory lives"}, only(true, [](const Point& p) { return p.config.frame_memory; })),
+      configuration({"wire", "", "link wire format"}, [](const Point& p) { return p.config.wire; }),
       {{"late_pixels", "", "pixels late in the last frame"}, [](const Point& p) { return p.m.late_pixels; }},
       {{"late_lines", "", "lines with a late pixel in the last frame"}, [](const Point& p) { return p.m.late_lines; }},
       {{"on_time", "", "every line meets its deadline"}, [](const Point& p) { return p.on_time(); }},
@@ -117,6 +123,13 @@ const std::vector<Column>& columns() {
     return c;
   }();
   return all;
+}
+
+nlohmann::ordered_json columns_json() {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const Column& c : columns())
+    out.push_back({{"name", c.name}, {"unit", c.unit}, {"description", c.description}, {"configuration", c.configuration}});
+  return out;
 }
 
 nlohmann::ordered_json to_json(const Point& point) {

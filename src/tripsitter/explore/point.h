@@ -93,8 +93,11 @@ struct Column {
   std::string name;
   std::string unit;
   std::string description;
+  bool configuration = false;  // one of the point's Configuration (what was swept), not a measurement
 };
 const std::vector<Column>& columns();
+// The columns as points.json and the report's page carry them: [{name, unit, description, configuration}, ...].
+nlohmann::ordered_json columns_json();
 
 // The point's value in each column, in columns()'s order: numbers, text and booleans; null where a column does
 // not apply (relmse on a mirror preset, differing on a path one, spp and frame_memory off the path preset).

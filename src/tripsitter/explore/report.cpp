@@ -90,11 +90,7 @@ Json page_data(const Report& report) {
   data["board"] = {{"name", "XC7A100T"},
                    {"dsp", device::kBoardDsp},
                    {"bram_kbit", static_cast<double>(device::kBoardBramBits) / 1024.0}};
-  Json columns = Json::array();
-  for (const Column& c : explore::columns()) {
-    columns.push_back({{"name", c.name}, {"unit", c.unit}, {"description", c.description}});
-  }
-  data["columns"] = std::move(columns);
+  data["columns"] = columns_json();
   Json rows = Json::array();
   std::map<int, const Point*> by_index;
   for (const Point& p : report.points) {
@@ -207,11 +203,7 @@ core::Result<bool, display::IoError> write_report(const fs::path& dir, const Rep
   Json doc = Json::object();
   doc["sweep"] = report.sweep;
   doc["summary"] = report.summary;
-  Json columns = Json::array();
-  for (const Column& c : explore::columns()) {
-    columns.push_back({{"name", c.name}, {"unit", c.unit}, {"description", c.description}});
-  }
-  doc["columns"] = std::move(columns);
+  doc["columns"] = columns_json();
   Json points = Json::array();
   for (const Point& p : report.points) points.push_back(to_json(p));
   doc["points"] = std::move(points);

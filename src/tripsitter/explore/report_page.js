@@ -6,11 +6,6 @@
 (function () {
   'use strict';
 
-  // The columns of a point's configuration (point.h's Configuration): series group points that share all of
-  // them but the chart's x. point.cpp lists them together, from scene to wire; these are the ones known when this
-  // was written, for data whose columns are not in that order.
-  const KNOWN_CONFIG = ['scene', 'preset', 'workers', 'frac_bits', 'sqrt_iterations', 'bounces', 'capacity', 'spp',
-                        'depth', 'frames', 'spi_mhz', 'transfer_bytes', 'frame_memory', 'wire'];
   // Names for axes and headings where a column's own name is terse.
   const LABELS = {
     workers: 'workers', frac_bits: 'fractional bits', sqrt_iterations: 'square-root iterations', spp: 'samples per pixel',
@@ -88,11 +83,9 @@
   const summary = obj(data.summary);
   const sweep = obj(data.sweep);
   const board = obj(data.board);
-  const config = (() => {
-    const names = columns.map((c) => c.name);
-    const first = names.indexOf('scene'), last = names.indexOf('wire');
-    return first >= 0 && last > first ? names.slice(first, last + 1) : KNOWN_CONFIG.filter((c) => colByName.has(c));
-  })();
+  // The columns of a point's configuration (the data marks them: point.h's Column::configuration): series group
+  // points that share all of them but the chart's x.
+  const config = columns.filter((c) => c.configuration === true).map((c) => c.name);
   const isPath = (p) => isNum(p.spp) && p.spp > 0;
   const scenes = [...new Set(points.map((p) => p.scene))];
   // For each preset, the configuration columns that take more than one value among its points: what tells them

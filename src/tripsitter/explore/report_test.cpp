@@ -230,6 +230,13 @@ TEST_F(ReportTest, WritesTheThreeFilesIntoANewDirectory) {
   EXPECT_EQ(doc["columns"][0]["name"], columns()[0].name);
   EXPECT_TRUE(doc["columns"][0].contains("unit"));
   EXPECT_TRUE(doc["columns"][0].contains("description"));
+  // The configuration's columns are marked (the page groups series by them): exactly Configuration's fields.
+  std::vector<std::string> marked;
+  for (const Json& c : doc["columns"])
+    if (c["configuration"] == true) marked.push_back(c["name"]);
+  EXPECT_EQ(marked, (std::vector<std::string>{"scene", "preset", "workers", "frac_bits", "sqrt_iterations", "bounces",
+                                              "capacity", "spp", "depth", "frames", "spi_mhz", "transfer_bytes",
+                                              "frame_memory", "wire"}));
   ASSERT_EQ(doc["points"].size(), report.points.size());
   for (std::size_t i = 0; i < report.points.size(); ++i) EXPECT_EQ(doc["points"][i], to_json(report.points[i]));
 
