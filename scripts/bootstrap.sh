@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Set-up on a fresh Debian machine: installs what is missing, builds, and runs one job.
-#   scripts/bootstrap.sh demo       build (release) and render the demo scene through the whole board model
-#   scripts/bootstrap.sh test       build and run the whole test suite in release, then the libFuzzer targets (built
+#   scripts/bootstrap.sh demo       build the tripsitter program alone (the demo preset: release, no tests, no RTL)
+#                                   and render the demo scene through the whole board model
+#   scripts/bootstrap.sh test       build and run the whole test suite in release, then the device's tests with its
+#                                   fixed-point checks on (the check-fixed preset), then the libFuzzer targets (built
 #                                   with the address and undefined-behaviour sanitizers). What CI runs (.ci/run)
 #   scripts/bootstrap.sh sanitize   build and run the suite under the address+undefined sanitizers (the asan preset),
 #                                   then the test executables that start threads under the thread sanitizer (tsan;
@@ -46,8 +48,8 @@ build() {
 }
 
 if [ "$job" = demo ]; then
-  build release
-  ./build/release/src/tripsitter/cmd/tripsitter render --scene demo --out build/demo.png
+  build demo
+  ./build/demo/src/tripsitter/cmd/tripsitter render --scene demo --out build/demo.png
   echo "the demo frame is in $(pwd)/build/demo.png"
 elif [ "$job" = sanitize ]; then
   build asan
@@ -57,6 +59,10 @@ elif [ "$job" = sanitize ]; then
 else
   build release
   ctest --preset release
+  # The release build checks no fixed-point invariant (TRIPSITTER_CHECK_FIXED follows NDEBUG): the device's tests
+  # again with every check on, the build of device_test alone.
+  build check-fixed
+  ./build/check-fixed/src/tripsitter/device/device_test --gtest_brief=1
   # Every fuzz target: its saved regressions, then 50,000 executions from its seed corpus (which replays
   # every seed first): 1 min 20 s to 2 min 16 s here with the build, on 2 cores shared with other work. Why it cannot make CI flaky:
   # - the saved regressions and the seeds are replayed as they are, every time;
