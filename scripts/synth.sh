@@ -12,6 +12,10 @@
 #   scripts/synth.sh table [PRESET ...]    every block of each preset (default: wide, board-2023 and artix), written
 #                                          to rtl/synth_table.tsv, the table src/tripsitter/device/resources_test.cpp
 #                                          holds the ledger (resources.h) to
+#   scripts/synth.sh arty [standalone|spi] the Arty A7-100T's board top (rtl/boards/arty_a7/ts_arty_top.sv: the artix
+#                                          device with 9 sphere units) with its ROM host and the ROM image checked in
+#                                          beside it (standalone, the default) or with the microcontroller's SPI on a
+#                                          Pmod (spi): the chip and its blocks, the ROM host's block RAM among them
 # PRESET: wide, board-2023 or artix.
 #
 # The chip table: LUTs (as logic and as memory: LUT RAM and shift registers), flip-flops, DSP48E1 slices and block
@@ -20,16 +24,18 @@
 # worker or unit adds what the N-th added on average (they are identical; scene memory grows by a replica per pair,
 # and on artix the tile lists by a replica per pair and the per-world constants by one per unit).
 #
-# Sources. ts_device: every rtl/*/ts_*.sv but rtl/artix/. ts_artix_device: its package first (rtl/artix/ts_artix_pkg.sv:
-# the blocks name ts_artix_pkg::X, so Yosys must have read it), the other rtl/artix/ts_*.sv, and the receiver's and
-# VGA files it shares with ts_device (TS_ARTIX_DEVICE_SOURCES of rtl/artix/CMakeLists.txt).
+# Sources. ts_device: the link's package first (rtl/receiver/ts_link_pkg.sv: the receiver's blocks name ts_link_pkg::X,
+# so Yosys must have read it; Yosys 0.23 cannot parse `import`), then every rtl/*/ts_*.sv but rtl/artix/ and rtl/boards/. ts_artix_device:
+# its package first (rtl/artix/ts_artix_pkg.sv, likewise), the other rtl/artix/ts_*.sv, and the receiver's files (the
+# link's package first) and VGA files it shares with ts_device (TS_ARTIX_DEVICE_SOURCES of rtl/artix/CMakeLists.txt).
 #
 # Blocks. synth_xilinx keeps the hierarchy (no -flatten), so Yosys synthesises every module on its own, once for all
 # its instances, and the design's counts are the sum of its modules' over their instances. A block is a module with
 # the modules below it that are not blocks themselves (ts_pixel_ray, ts_artix_delay and ts_artix_fifo go with the
 # block that instantiates them); a block of several modules side by side in the top (artix's receiver and scanout)
 # counts its instances once. ts_device's blocks:
-#   receiver      ts_receiver_top, ts_receiver, ts_crc32, ts_spi_rx (the link, the frame buffer, the checks)
+#   receiver      ts_receiver_top, ts_receiver and its blocks (ts_rx_frame, ts_rx_sequence, ts_rx_v1_word,
+#                 ts_rx_commit), ts_crc32, ts_spi_rx (the link, the frame buffer, the checks)
 #   scene_memory  ts_scene_memory (two copies of the world, a replica per pair of workers)
 #   scanout       ts_scanout, ts_controller, ts_line_buffers, ts_vga_timing
 #   worker        ts_worker's own logic: issue, closest update, queue, colour delay, albedo products
@@ -39,7 +45,7 @@
 #   reflect       ts_reflect (wide)
 #   device        ts_device's own logic (the controller's least-cycles product)
 # ts_artix_device's blocks:
-#   receiver      ts_receiver, ts_crc32, ts_spi_rx
+#   receiver      ts_receiver and its blocks (ts_rx_*), ts_crc32, ts_spi_rx
 #   scene_memory  ts_scene_memory (two copies of the world, a replica per pair of units)
 #   scanout       ts_line_buffers, ts_vga_timing
 #   unit          ts_artix_unit's own logic: the issue port, the slots, the direction banks, and its two queues
@@ -53,12 +59,19 @@
 #   cull          ts_artix_cull (the screen bounds)
 #   tiles         ts_artix_tiles (the bounds, the builder, the lists' lengths, the lists: a replica per pair of units)
 #   device        ts_artix_device's own logic (the line's windows, the directions' feed, the late pixels)
-# These are the ledger's blocks (src/tripsitter/device/resources.h, rtl_blocks).
+# These are the ledger's blocks (src/tripsitter/device/resources.h, rtl_blocks). The board top (arty) has the artix
+# device's blocks and two of its own:
+#   rom_host      ts_rom_host (standalone): the ROM image's block RAM and the SPI master that plays it
+#   board         ts_arty_top's own logic, the reset (ts_reset_sync) and the buttons (ts_debounce)
+# The board top is read from ts_artix_device's files (the header's "Sources") and rtl/boards/ts_*.sv and
+# rtl/boards/arty_a7/ts_*.sv, with Yosys working in rtl/boards/arty_a7/, where the ROM host's $readmemh finds the
+# image by its name (ts_arty_rom.mem), as Vivado does (build_bitstream.tcl's read_mem).
 #
 # Runs on whatever tree it sits in (rtl/ beside it). Needs yosys (Debian: yosys) and awk. Logs, statistics and
 # netlists are kept in build/synth/. Times here, on 2 cores shared by several: `synth.sh board-2023` 1 min 29 s,
 # `synth.sh wide` 6 min 54 s (4 min 39 s of CPU, the depth walk included), `synth.sh artix` 1 min 59 s (1 min 54 s of
-# CPU), `synth.sh 12 artix` 3 min 15 s, `synth.sh table` 5 min 24 s for the three presets (5 min 8 s of CPU).
+# CPU), `synth.sh 12 artix` 3 min 15 s, `synth.sh table` 5 min 24 s for the three presets (5 min 8 s of CPU),
+# `synth.sh arty standalone` and `synth.sh arty spi` 2 min 15 s of CPU each.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -69,6 +82,7 @@ usage() {
   echo "usage: $0 N [wide|board-2023|artix]   (N: workers or sphere units, 1..640)" >&2
   echo "       $0 wide|board-2023|artix" >&2
   echo "       $0 table [wide|board-2023|artix ...]" >&2
+  echo "       $0 arty [standalone|spi]" >&2
   exit 2
 }
 
@@ -77,10 +91,11 @@ preset_top() {
   case "$1" in
     wide|board-2023) echo ts_device ;;
     artix) echo ts_artix_device ;;
+    arty-standalone|arty-spi) echo ts_arty_top ;;
     *) return 1 ;;
   esac
 }
-preset_noun() { if [ "$1" = artix ]; then echo unit; else echo worker; fi; }
+preset_noun() { case "$1" in artix|arty-*) echo unit ;; *) echo worker ;; esac; }
 
 # The top's source files, in an order Yosys can read (the header's "Sources").
 preset_sources() {
@@ -88,10 +103,12 @@ preset_sources() {
   if [ "$1" = artix ]; then
     echo rtl/artix/ts_artix_pkg.sv
     for f in rtl/artix/ts_*.sv; do [ "$f" = rtl/artix/ts_artix_pkg.sv ] || echo "$f"; done
-    echo rtl/receiver/ts_spi_rx.sv rtl/receiver/ts_crc32.sv rtl/receiver/ts_receiver.sv rtl/receiver/ts_scene_memory.sv
+    echo rtl/receiver/ts_link_pkg.sv rtl/receiver/ts_spi_rx.sv rtl/receiver/ts_crc32.sv rtl/receiver/ts_rx_*.sv \
+         rtl/receiver/ts_receiver.sv rtl/receiver/ts_scene_memory.sv
     echo rtl/vga/ts_vga_timing.sv rtl/vga/ts_line_buffers.sv
   else
-    for f in rtl/*/ts_*.sv; do [[ "$f" == rtl/artix/* ]] || echo "$f"; done
+    echo rtl/receiver/ts_link_pkg.sv
+    for f in rtl/*/ts_*.sv; do [[ "$f" == rtl/artix/* || "$f" == rtl/boards/* || "$f" == rtl/receiver/ts_link_pkg.sv ]] || echo "$f"; done
   fi
 }
 
@@ -133,6 +150,25 @@ synth() {
   fi
 }
 
+# synth_board MODE: the board top (standalone or spi) as ts_arty_top configures it (9 sphere units); the statistics
+# go to $out/arty-MODE.stat.
+synth_board() {
+  local name="arty-$1" standalone=1 sources f
+  [ "$1" = spi ] && standalone=0
+  local log="$PWD/$out/$name.log" stat="$PWD/$out/$name.stat"
+  # The artix device's files in their order, then the board's; absolute, as Yosys works in the board's folder.
+  sources=$(for f in $(preset_sources artix) rtl/boards/ts_*.sv rtl/boards/arty_a7/ts_*.sv; do echo "$PWD/$f"; done)
+  sources=$(echo $sources)
+  echo "  yosys: ts_arty_top, $1, 9 units (log: $out/$name.log) ..." >&2
+  if ! (cd rtl/boards/arty_a7 && nice -n 10 yosys -q -l "$log" -p "read_verilog -sv $sources;
+        chparam -set STANDALONE $standalone ts_arty_top; synth_xilinx -family xc7 -noiopad -top ts_arty_top;
+        tee -q -o $stat stat") >/dev/null 2>&1; then
+    echo "$0: yosys failed on ts_arty_top ($1); the end of its log ($out/$name.log):" >&2
+    tail -n 20 "$log" >&2
+    exit 1
+  fi
+}
+
 # count STAT: "luts lutram ffs dsps brams" of a run (brams in RAMB36 units, a RAMB18 half of one). Yosys prints
 # each module, then (when there are several) the whole design's totals: those count, not the sum.
 count() {
@@ -157,7 +193,7 @@ blocks() {
     function base(m) { sub(/^\$paramod\$[0-9a-f]+\\/, "", m); sub(/^\$paramod\\/, "", m); sub(/\\.*$/, "", m); return m }
     function block_of(m,    b) {
       b = base(m)
-      if (b ~ /^ts_(receiver_top|receiver|crc32|spi_rx)$/) return "receiver"
+      if (b ~ /^ts_(receiver_top|receiver|rx_frame|rx_sequence|rx_v1_word|rx_commit|crc32|spi_rx)$/) return "receiver"
       if (b == "ts_scene_memory") return "scene_memory"
       if (b ~ /^ts_(scanout|controller|line_buffers|vga_timing)$/) return "scanout"
       if (b == "ts_worker") return "worker"
@@ -174,6 +210,8 @@ blocks() {
       if (b == "ts_artix_cull") return "cull"
       if (b == "ts_artix_tiles") return "tiles"
       if (b == "ts_device" || b == "ts_artix_device") return "device"
+      if (b == "ts_rom_host") return "rom_host"
+      if (b ~ /^ts_(arty_top|reset_sync|debounce)$/) return "board"
       return ""
     }
     function add(blk, type, n) {
@@ -210,7 +248,7 @@ blocks() {
       walk(top, 1, "")
       inst["total"] = 1
       n = split("receiver scene_memory scanout worker sphere_test sqrt_unit shade reflect unit sphere_unit " \
-                "shade_reflect camera world prepare cull tiles device total", order, " ")
+                "shade_reflect camera world prepare cull tiles device rom_host board total", order, " ")
       for (i = 1; i <= n; i++) {
         b = order[i]
         if (!(b in inst)) continue
@@ -301,6 +339,17 @@ case "${1:-}" in
     } >"$table_file"
     printf "%s" "$rows" | print_blocks
     echo "written: $table_file ($((SECONDS - start_time)) s)" >&2
+    ;;
+  arty)
+    mode=${2:-standalone}
+    [ "$mode" = standalone ] || [ "$mode" = spi ] || usage
+    echo "synthesising ts_arty_top ($mode: the artix device, 9 sphere units, on the Arty A7-100T;" \
+         "yosys synth_xilinx -family xc7; logs in $out/) ..." >&2
+    synth_board "$mode"
+    chip "arty-$mode" 9 "$out/arty-$mode.stat"
+    echo "blocks (per instance; scripts/synth.sh's header says which modules each holds):"
+    blocks "arty-$mode" "$out/arty-$mode.stat" | print_blocks
+    echo "($((SECONDS - start_time)) s)" >&2
     ;;
   wide|board-2023|artix)
     preset=$1

@@ -340,8 +340,8 @@ TEST(DeviceRtl, DamagedV1WordsAtThePins) {
   EXPECT_GT(model.receiver_stats().worlds_accepted, 3u);
 }
 
-// The equivalence catches a planted bug: the square-root unit's comparison flipped (TS_PLANT_SQRT_BUG) in an otherwise
-// equal build of the one-worker board.
+// The equivalence catches a planted bug: the square-root unit's comparison flipped (the test-only copy of the unit that
+// rtl/worker/CMakeLists.txt writes) in an otherwise equal build of the one-worker board.
 TEST(DeviceRtl, PlantedSqrtBugDiffers) {
   DevicePreset p = board_2023_preset();
   p.workers = 1;

@@ -22,7 +22,6 @@
 #include <cstdint>
 #include <iostream>
 #include <memory>
-#include <random>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -38,6 +37,7 @@
 #include "Vts_rx_v2_wide.h"
 #include "Vts_rx_v3_board.h"
 #include "Vts_rx_v3_wide.h"
+#include "test_util.h"
 
 #include <tripsitter/core/crc32.h>
 #include <tripsitter/device/preset.h>
@@ -50,22 +50,7 @@
 namespace tripsitter::rtl {
 namespace {
 
-using Bytes = std::vector<std::uint8_t>;
 using link::WireVersion;
-
-class Rng {
- public:
-  explicit Rng(std::uint64_t seed) : g_(seed) {}
-  std::uint64_t below(std::uint64_t n) { return g_() % n; }
-  std::int64_t between(std::int64_t lo, std::int64_t hi) {
-    return lo + static_cast<std::int64_t>(below(static_cast<std::uint64_t>(hi - lo) + 1));
-  }
-  bool percent(int p) { return below(100) < static_cast<std::uint64_t>(p); }
-  std::uint8_t byte() { return static_cast<std::uint8_t>(g_() >> 56); }
-
- private:
-  std::mt19937_64 g_;
-};
 
 // ---- The configurations: one Verilated model per wire and preset (rtl/receiver/CMakeLists.txt) ----
 
@@ -511,15 +496,6 @@ class Host {
   std::vector<Bytes> sent_;
 };
 
-void put_be32(Bytes& b, std::size_t at, std::uint32_t v) {
-  for (std::size_t k = 0; k < 4; ++k) b[at + k] = static_cast<std::uint8_t>(v >> (24 - 8 * k));
-}
-
-// Fixes a frame's CRCs after its bytes were edited (the header CRC on v3, the trailer always).
-void fix_crcs(WireVersion wire, Bytes& f) {
-  if (wire == WireVersion::kV3) put_be32(f, 24, core::crc32(std::span<const std::uint8_t>(f).first(24)));
-  put_be32(f, f.size() - 4, core::crc32(std::span<const std::uint8_t>(f).first(f.size() - 4)));
-}
 
 // ---- Good worlds ----
 

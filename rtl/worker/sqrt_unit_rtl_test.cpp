@@ -1,7 +1,8 @@
 // The square-root unit's RTL (ts_sqrt_unit.sv) against the C++ model, device::SqrtUnit::operator(), bit for bit:
 // both forms (pipelined, one iteration per stage; iterative, one unit used N times), the presets' input widths,
 // the widest input (126 bits), N = 1, 3, 4, 16 and 30, and exact latencies. The planted fault (the recurrence's
-// comparison flipped, built with TS_PLANT_SQRT_BUG) must disagree with the model: the tests would catch it.
+// comparison flipped, in the test-only copy of the unit that rtl/worker/CMakeLists.txt writes) must disagree with the
+// model: the tests would catch it.
 #include <algorithm>
 #include <cstdint>
 #include <memory>

@@ -22,8 +22,9 @@
 // step's square sq = 2^(2N-2k-2), so that its shifts are constant too: xk_{k+1} = xk_k / 2 +- sq_k,
 // sq_{k+1} = sq_k / 4, and xk_N = x_N.
 //
-// The one comparison of the recurrence is step_goes_up() below. Built with TS_PLANT_SQRT_BUG defined, it is
-// flipped (c > m): the planted fault the tests must catch (sqrt_unit_rtl_test.cpp).
+// The one comparison of the recurrence is step_goes_up() below. The tests build a copy of this file with it flipped
+// (c > m; rtl/worker/CMakeLists.txt writes the copy into the build tree): the planted fault they must catch
+// (sqrt_unit_rtl_test.cpp, worker_rtl_test.cpp, device_rtl_test.cpp).
 //
 // A tag of TAG_W bits rides along with each input and comes out with its root (the worker's pair data).
 module ts_sqrt_unit #(
@@ -53,11 +54,7 @@ module ts_sqrt_unit #(
 
   // The recurrence's comparison: move x up when its square is below the normalised input.
   function automatic logic step_goes_up(input logic [MW:0] c, input logic [MW-1:0] m);
-`ifdef TS_PLANT_SQRT_BUG
-    step_goes_up = c > {1'b0, m};  // planted fault: the comparison flipped
-`else
     step_goes_up = c < {1'b0, m};
-`endif
   endfunction
 
   // Leading zero bit pairs of v (PAIRS when v is 0): the normalising shift is twice this.

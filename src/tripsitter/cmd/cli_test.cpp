@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -14,6 +15,7 @@
 
 #include <tripsitter/display/exr.h>
 #include <tripsitter/display/png.h>
+#include <tripsitter/host/rom_image.h>
 #include <tripsitter/link/frame.h>
 
 #include "command_test_util.h"
@@ -594,6 +596,63 @@ TEST_F(Cli, PathStillWritesExrWithLayersAndAovPngs) {
     ASSERT_TRUE(png) << name;
     EXPECT_EQ(png.value().width, 40) << name;
   }
+}
+
+// tripsitter rom: the board's ROM image. Run with its defaults it writes, byte for byte, the image checked in beside
+// the board's top (rtl/boards/arty_a7/), so that image cannot go stale; its worlds are the wire's frames, in order.
+TEST_F(Cli, RomWritesTheBoardsCheckedInImage) {
+  const Result r = run("rom -o " + path("rom.mem"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("32 worlds of 8 spheres"), std::string::npos) << r.err;
+  const std::string written = slurp(dir_ / "rom.mem");
+  EXPECT_EQ(written, slurp(fs::path(TRIPSITTER_SOURCE_DIR) / "rtl/boards/arty_a7/ts_arty_rom.mem"))
+      << "rtl/boards/arty_a7/ts_arty_rom.mem is not what `tripsitter rom` writes: write it again with "
+         "`tripsitter rom -o rtl/boards/arty_a7/ts_arty_rom.mem`";
+  // The bytes, one a line after the comments, hold the table and the 32 worlds, each a frame numbered 1..32.
+  std::vector<std::uint8_t> bytes;
+  std::istringstream lines(written);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.starts_with("//")) bytes.push_back(static_cast<std::uint8_t>(std::stoul(line, nullptr, 16)));
+  const auto worlds = tripsitter::host::rom_worlds(bytes);
+  ASSERT_TRUE(worlds.ok()) << worlds.error();
+  ASSERT_EQ(worlds.value().size(), 32u);
+  for (std::size_t k = 0; k < worlds.value().size(); ++k) {
+    const auto w = tripsitter::link::decode_frame(tripsitter::link::WireVersion::kV2, worlds.value()[k], 256);
+    ASSERT_TRUE(w.ok()) << "world " << k;
+    EXPECT_EQ(w.value().sequence, k + 1);
+  }
+  EXPECT_LE(bytes.size(), 8192u);
+}
+
+TEST_F(Cli, RomRefusesBadInputAndWritesNothing) {
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases = {
+      {"rom --worlds 0", "--worlds"},
+      {"rom --worlds 64", "more than the ROM's 8192"},
+      {"rom --orbit 90 --walk 2", "excludes"},
+      {"rom --scene nope", "nope"},
+      {"rom --preset path", "--preset path"},
+      {"rom --preset nope", "nope"},
+      {"rom --capacity 8", "--capacity"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run(c.args + " -o " + path("rom.mem"));
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(path("rom.mem"))) << c.args;
+  }
+  const Result no_out = run("rom");
+  EXPECT_EQ(no_out.exit_code, 2);
+  EXPECT_NE(no_out.err.find("--out"), std::string::npos) << no_out.err;
+  const Result nowhere = run("rom -o " + path("no/such/dir/rom.mem"));
+  EXPECT_EQ(nowhere.exit_code, 2);
+  EXPECT_NE(nowhere.err.find("no/such/dir/rom.mem"), std::string::npos) << nowhere.err;
+  EXPECT_FALSE(fs::exists(dir_ / "no")) << "no folder is made";
+  const Result help = run("rom --help");
+  for (const char* text : {"--scene", "--worlds", "--orbit", "--walk", "--capacity", "$readmemh", "wire v2"})
+    EXPECT_NE(help.out.find(text), std::string::npos) << text << "\n" << help.out;
 }
 
 }  // namespace

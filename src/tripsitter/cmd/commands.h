@@ -17,5 +17,6 @@ void add_device_command(CLI::App& app, Action& run);
 void add_run_command(CLI::App& app, Action& run);
 void add_approx_command(CLI::App& app, Action& run);
 void add_explore_command(CLI::App& app, Action& run);
+void add_rom_command(CLI::App& app, Action& run);
 
 }  // namespace tripsitter::cmd

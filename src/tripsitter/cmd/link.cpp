@@ -15,6 +15,7 @@
 #include <tripsitter/board/board.h>
 #include <tripsitter/device/receiver.h>
 #include <tripsitter/host/host.h>
+#include <tripsitter/host/camera_path.h>
 #include <tripsitter/link/frame.h>
 #include <tripsitter/link/sequence.h>
 #include <tripsitter/link/wire_v1.h>
@@ -50,7 +51,7 @@ int run_encode(const LinkOptions& o) {
   link::Numbering numbering(wire, session);
   std::size_t bytes = 0;
   for (int i = 0; i < o.worlds; ++i) {
-    if (i > 0) host.camera().orbit(o.orbit / o.worlds);
+    if (i > 0) host::step_camera(host.camera(), {host::CameraPath::Kind::kOrbit, o.orbit}, o.worlds);
     std::vector<std::uint8_t> world = host.update().bytes;
     numbering.stamp(world);
     std::fwrite(world.data(), 1, world.size(), stdout);

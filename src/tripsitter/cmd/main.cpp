@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   add_device_command(app, run);
   add_approx_command(app, run);
   add_explore_command(app, run);
+  add_rom_command(app, run);
   // Under mpirun every rank parses the same arguments: rank 0 alone prints help and usage errors and gives the
   // job its exit code. The others end quietly with 0: mpirun stops every rank as soon as one exits non-zero,
   // which could kill rank 0 before it has said what was wrong.

@@ -1,0 +1,495 @@
+// ts_rx_frame: the framed wires' stream decoder (v2 and v3): hunts for the magic, checks each header byte as it
+// comes, runs the frame CRC, assembles the sphere records and checks each for a bad sphere, applies v3's cut rule,
+// and reports every byte it drops. A frame that arrived intact is handed to the receiver (`intact`), which answers
+// `admit_drop` (a replay, or content the device refuses) or `admit_copy` (go over its payload again and give each
+// sphere record to scene memory). Part of ts_receiver (the composition, docs/rtl.md).
+//
+// C++ twin: link::FrameStreamDecoder and decode_body (src/tripsitter/link/frame.h/.cpp); the formats in
+// docs/link_format.md and ts_link_pkg.sv.
+//
+// Byte buffer. Every byte is written into a circular buffer of 2^BufAW bytes (block RAM). The model goes back over
+// the bytes of a frame that failed (it drops the first byte and hunts for the magic from the second, so a frame
+// hidden in a damaged one is still found), so the buffer keeps every byte from the start of the frame being decoded:
+// the largest frame the preset can announce plus a quarter more and 512 bytes for the input that arrives while the
+// engine goes back over a frame or copies one out. A byte that arrives while it is full is dropped (`full`; the
+// receiver counts it in overflow_bytes; the model has no such limit): with SCLK at most clk/8 and the engine taking 2
+// clocks per byte this happens only to streams built to make the decoder go back over the largest frame again and
+// again.
+//
+// Engine. One state machine reads the buffer one byte every 2 clocks (address, then data) at `pos_q` and does what
+// FrameStreamDecoder does with that byte: while hunting, match the magic (a partial magic waits for more bytes: the
+// magics have no repeated letter, so a mismatch restarts the match at most at the byte itself); while expecting a
+// frame, check each header byte as it comes (magic, version, frac_bits, reserved, and on v3 the header CRC, then
+// count and length, at the offsets the model checks them), then feed payload and trailer through the frame CRC,
+// assemble each 24-byte sphere record and check it (radius 0, material above 2, ior 0). On any failure it rewinds
+// `pos_q` as the model's read position moves: to the frame's first byte (bad magic: a hunt from there) or its second
+// (a header error, a bad CRC: 1 byte dropped, a hunt from the next). On v3 it also applies the cut rule: a 28-byte
+// window of the last bytes; whenever a magic starts 27 bytes back, at frame offset 28 or more, a second CRC unit
+// checks that candidate header in 24 clocks; if it is intact the frame is dropped as truncated up to it and decoding
+// restarts there. What the checks need is registered in the clock before the byte they judge (the offset decoded,
+// `at_*_q`; a field's first three bytes compared, `*_hi_*_q`), so only that byte's own comparison is left in the
+// clock that decides.
+//
+// Reports (`rep_*`, one clock each, registered): a run of garbage (the hunt's skipped bytes, when a magic is found
+// or the stream ends) or a dropped frame with its bytes: a header error or bad CRC (1 byte), a cut (the bytes before
+// the cut), a truncated frame at the end of the stream (all its bytes). The receiver counts them.
+//
+// Records (`rec_*`, one clock each, registered): every sphere record of a frame whose header passed, first while the
+// frame is checked (`rec_copy` low: the receiver checks the preset's ranges), then, once admitted, again while the
+// payload is copied out (`rec_copy` high: the receiver writes it to scene memory). `copy_done` follows the last.
+//
+// End of stream: `end_of_stream` is handled when the engine has processed every byte received before it: a partial
+// frame is dropped as truncated, a hunt in progress as a garbage run. A second end_of_stream before the first is
+// handled moves it to the later position (the engine keeps one).
+module ts_rx_frame #(
+    parameter int Wire = 3,                  // 2 or 3
+    parameter int MaxSpheres = 4096,         // the most a frame may announce; a power of two
+    parameter int CntW = 64,                 // width of a report's byte count
+    // Byte buffer: the largest frame, a quarter more and 512 bytes (wide: 128 KiB, board-2023: 4 KiB).
+    parameter int BufAW = $clog2(((Wire == 3) ? ts_link_pkg::V3HeaderBytes : ts_link_pkg::V2HeaderBytes) * 5 / 4 +
+                                 ts_link_pkg::FrameTrailerBytes * 5 / 4 + 30 * MaxSpheres + 512),
+    localparam int AW = $clog2(MaxSpheres)
+) (
+    input  logic            clk,
+    input  logic            rst,
+    input  logic            byte_valid,
+    input  logic [7:0]      byte_data,
+    input  logic            end_of_stream,
+    output logic            full,          // the buffer is full: byte_valid's byte is dropped
+    // Reports of dropped bytes.
+    output logic            rep_valid,
+    output logic            rep_garbage,   // a run of garbage; else a dropped frame
+    output logic [CntW-1:0] rep_bytes,
+    // The frame's header, stable from its last header byte until the frame is done with.
+    output logic [31:0]     hdr_session,   // v3; 0 on v2
+    output logic [31:0]     hdr_sequence,
+    output logic [AW:0]     hdr_count,     // at most MaxSpheres once the header passed
+    output logic [7:0]      hdr_frac,
+    output logic [31:0]     frame_bytes,   // header, payload and trailer
+    output logic            in_body,       // the header has passed: records of this frame follow
+    output logic            bad_sphere,    // a record of the frame had radius 0, material above 2 or ior 0
+    // An intact frame (CRC good), waiting for the receiver's answer.
+    output logic            intact,
+    input  logic            admit_drop,
+    input  logic            admit_copy,
+    // Sphere records.
+    output logic            rec_valid,
+    output logic            rec_copy,
+    output logic [31:0]     rec_x,
+    output logic [31:0]     rec_y,
+    output logic [31:0]     rec_z,
+    output logic [31:0]     rec_r,
+    output logic [7:0]      rec_material,
+    output logic [23:0]     rec_albedo,
+    output logic            copy_done,
+    output logic            idle           // every byte received processed
+);
+  // ---- Wire layout (ts_link_pkg, frame.cpp's Layout) ----
+  localparam int H = (Wire == 3) ? ts_link_pkg::V3HeaderBytes : ts_link_pkg::V2HeaderBytes;
+  localparam int SessionAt = ts_link_pkg::V3SessionAt;  // v3 only
+  localparam int SequenceAt = (Wire == 3) ? ts_link_pkg::V3SequenceAt : ts_link_pkg::V2SequenceAt;
+  localparam int CountAt = (Wire == 3) ? ts_link_pkg::V3CountAt : ts_link_pkg::V2CountAt;
+  localparam int LengthAt = (Wire == 3) ? ts_link_pkg::V3LengthAt : ts_link_pkg::V2LengthAt;
+  localparam int HcrcAt = ts_link_pkg::V3HeaderCrcAt;  // v3 only
+  localparam int Rec = ts_link_pkg::SphereBytes;
+  localparam int MaxFrame = H + Rec * MaxSpheres + ts_link_pkg::FrameTrailerBytes;
+  localparam int OW = $clog2(MaxFrame + 1) + 1;       // frame offsets
+  localparam int PW = BufAW + 1;                      // buffer positions: one bit more, so full != empty
+  localparam logic [7:0] Version = 8'((Wire == 3) ? ts_link_pkg::V3Version : ts_link_pkg::V2Version);
+  localparam logic [31:0] Magic = 32'((Wire == 3) ? ts_link_pkg::V3Magic : ts_link_pkg::V2Magic);
+  localparam logic [31:0] Max32 = 32'(MaxSpheres);
+  localparam logic [PW-1:0] Depth = {1'b1, {BufAW{1'b0}}};
+  // Where each check of inspect_header falls: the count as soon as its 4 bytes are there (v2: its last byte; v3:
+  // the header's last, after the header CRC), the length at the header's last byte.
+  localparam int CountCheckAt = (Wire == 3) ? H - 1 : CountAt + 3;
+  // v3's cut rule: a magic 27 bytes back at frame offset 28 or more.
+  localparam int CutWindow = ts_link_pkg::V3HeaderBytes;
+
+  function automatic logic [7:0] magic_byte(input logic [1:0] i);
+    case (i)
+      2'd0: magic_byte = Magic[31:24];
+      2'd1: magic_byte = Magic[23:16];
+      2'd2: magic_byte = Magic[15:8];
+      default: magic_byte = Magic[7:0];
+    endcase
+  endfunction
+
+  // ---- Byte buffer ----
+  logic [7:0] buffer[1 << BufAW];
+  logic [7:0] b;  // the byte at the address presented in the previous clock
+  logic [PW-1:0] wr_ptr_q, pos_q, start_q, eos_at_q;
+  wire [PW-1:0] held = wr_ptr_q - start_q;  // bytes the engine may still need
+  assign full = held == Depth;
+  wire take = byte_valid && !full;
+
+  always_ff @(posedge clk) begin
+    if (take) buffer[wr_ptr_q[BufAW-1:0]] <= byte_data;
+    b <= buffer[pos_q[BufAW-1:0]];
+  end
+
+  // ---- Engine state ----
+  typedef enum logic [3:0] {
+    S_FETCH,    // present pos to the buffer (or wait for a byte, or handle end of stream)
+    S_EXEC,     // the byte at pos
+    S_CAND,     // v3: checking the CRC of a header candidate inside the frame
+    S_VERDICT,  // a whole frame: its CRC
+    S_ADMIT,    // an intact frame: waiting for the receiver
+    S_CBEGIN,   // copy: from the payload's first byte
+    S_CFETCH,   // copy: present a payload byte
+    S_CEXEC,    // copy: a payload byte; every 24th completes a record
+    S_CEND      // copy: the world is whole
+  } state_e;
+  state_e state_q;
+
+  logic eos_pending_q;
+  logic hunting_q;
+  logic [1:0] m_q;                // hunting: bytes of the magic matched so far
+  logic [CntW-1:0] skipped_q;     // hunting: bytes consumed by this hunt, the partial magic's included
+  logic [OW-1:0] off_q;           // expecting a frame: offset of the byte at pos in the frame
+  logic hdr_ok_q;                 // the frame's header has passed
+  logic [OW-1:0] fb_q;            // the frame's size once its header passed
+  logic [31:0] count_q;           // the count field as it is read
+  logic [31:0] count_x24_q;       // count * 24, a clock behind count_q
+  logic [23:0] hcrc_car_q;        // v3: the carried header CRC's first 3 bytes (the 4th is the byte at pos)
+  logic [31:0] hcrc_calc_q, fcrc_car_q, fcrc_calc_q;
+  logic [183:0] srec_q;           // the sphere record's bytes so far (23 at most), first byte in the top bits
+  logic [4:0] sbyte_q;            // its bytes so far
+  logic [AW:0] left_q;            // copy: records still to give
+  logic [215:0] window_q;         // v3: the frame's last 27 bytes before the one at pos, oldest in the top bits
+  logic [191:0] cand_sr_q;        // v3: the candidate header's first 24 bytes, shifted into the CRC unit
+  logic [31:0] cand_car_q;        // its carried CRC
+  logic [4:0] cand_cnt_q;
+  logic cand_final_q;             // the candidate ends at the frame's last byte: the verdict follows
+  logic [31:0] length_q;          // the length field as it is read
+  logic [31:0] session_q;         // v3: the session field as it is read
+  // The offset's decodes and the header's comparisons, a clock ahead: off_q changes only in clocks that go to
+  // S_FETCH, and S_EXEC always follows S_FETCH, so flags registered from it every clock are current in S_EXEC. The
+  // comparisons of a field whose last byte is the one at pos compare its other bytes here and that byte in S_EXEC.
+  logic at_zero_q, at_magic_q, at_version_q, at_frac_q, at_reserved_q, at_count_check_q, at_header_end_q;
+  logic in_payload_q, at_trailer_q, at_last_q, cut_window_q;
+  logic count_big_q;              // v3: count > MaxSpheres
+  logic count_hi_gt_q, count_hi_eq_q;  // v2: the count's first 3 bytes against MaxSpheres's
+  logic len_bad_q;                // v3: length != count * 24
+  logic len_hi_bad_q;             // v2: the length's first 3 bytes against count * 24's
+  logic hcrc_hi_bad_q;            // v3: the carried header CRC's first 3 bytes against the computed one's
+  logic cut_magic_q;              // v3: the window's oldest 4 bytes, 27 back from the byte at pos, are the magic
+
+  // ---- CRC units: the frame's running CRC, and the v3 candidate checker ----
+  wire in_frame_exec = state_q == S_EXEC && !hunting_q;
+  logic [31:0] crc_run, crc_cand;
+  ts_crc32 u_crc_run (
+      .clk, .rst,
+      .clear(at_zero_q && in_frame_exec),  // at_zero_q lags off_q by a clock outside S_EXEC
+      .en(in_frame_exec),
+      .data(b),
+      .crc(crc_run)
+  );
+  ts_crc32 u_crc_cand (
+      .clk, .rst,
+      .clear(cand_cnt_q == 5'd0),
+      .en(state_q == S_CAND && cand_cnt_q != 5'd24),
+      .data(cand_sr_q[191:184]),
+      .crc(crc_cand)
+  );
+
+  // ---- The byte at pos, taken apart ----
+  wire [191:0] srec_next = {srec_q, b};
+  wire [223:0] window_next = {window_q, b};
+  // A record's field at byte offset `at` (ts_link_pkg's Sphere*At), in the record that the byte at pos completes.
+  localparam int RecTop = 8 * Rec - 1;
+  localparam int XAt = RecTop - 8 * ts_link_pkg::SphereXAt;
+  localparam int YAt = RecTop - 8 * ts_link_pkg::SphereYAt;
+  localparam int ZAt = RecTop - 8 * ts_link_pkg::SphereZAt;
+  localparam int RAt = RecTop - 8 * ts_link_pkg::SphereRadiusAt;
+  localparam int MaterialAt = RecTop - 8 * ts_link_pkg::SphereMaterialAt;
+  localparam int AlbedoAt = RecTop - 8 * ts_link_pkg::SphereAlbedoAt;
+  localparam int IorAt = RecTop - 8 * ts_link_pkg::SphereIorAt;
+  wire s_bad = srec_next[RAt-:32] == 32'd0 ||                                        // decode_body's bad sphere:
+               srec_next[MaterialAt-:8] > 8'(ts_link_pkg::MaterialDielectric) ||     // radius 0, an unknown
+               srec_next[IorAt-:16] == 16'd0;                                        // material, ior 0
+  wire [31:0] count_next = {count_q[23:0], b};
+  wire [31:0] length_next = {length_q[23:0], b};
+  // inspect_header's count check: v3 the whole count, v2 {count_q[23:0], b} > MaxSpheres.
+  wire count_bad = (Wire == 3) ? count_big_q : count_hi_gt_q || (count_hi_eq_q && b > Max32[7:0]);
+  wire length_bad = (Wire == 3) ? len_bad_q : len_hi_bad_q || b != count_x24_q[7:0];
+  wire hcrc_bad = hcrc_hi_bad_q || b != hcrc_calc_q[7:0];
+  wire [OW-1:0] fb_of_count = OW'(H + 4) + OW'(count_x24_q);
+  wire cut_candidate = Wire == 3 && hdr_ok_q && cut_window_q && cut_magic_q;
+  wire [OW-1:0] cut_at = off_q - OW'(CutWindow);  // in S_CAND, off is one past the byte that completed the candidate
+
+  wire header_bad =
+      (at_version_q && b != Version) ||                                  // bad version
+      (at_frac_q && b > 8'(ts_link_pkg::MaxFracBits)) ||                 // bad header: frac_bits
+      (at_reserved_q && b != 8'd0) ||                                    // bad header: reserved
+      (Wire == 3 && at_header_end_q && hcrc_bad) ||                      // bad header CRC
+      (at_count_check_q && count_bad) ||                                 // too many spheres
+      (at_header_end_q && length_bad);                                   // bad length
+
+  // A header error (the byte at pos fails a check of inspect_header), or a whole frame whose CRC fails.
+  wire header_error = state_q == S_EXEC && !hunting_q && !hdr_ok_q && !at_magic_q && header_bad;
+  wire crc_error = state_q == S_VERDICT && fcrc_car_q != fcrc_calc_q;
+
+  assign idle = state_q == S_FETCH && pos_q == wr_ptr_q && !eos_pending_q;
+  assign in_body = hdr_ok_q;
+  assign frame_bytes = 32'(fb_q);
+  assign hdr_count = count_q[AW:0];
+  assign hdr_session = (Wire == 3) ? session_q : 32'd0;
+
+  always_ff @(posedge clk) begin
+    if (rst) begin
+      state_q <= S_FETCH;
+      wr_ptr_q <= '0;
+      pos_q <= '0;
+      start_q <= '0;
+      eos_pending_q <= 1'b0;
+      hunting_q <= 1'b0;
+      m_q <= '0;
+      skipped_q <= '0;
+      off_q <= '0;
+      hdr_ok_q <= 1'b0;
+      bad_sphere <= 1'b0;
+      sbyte_q <= '0;
+      cand_cnt_q <= '0;
+      rep_valid <= 1'b0;
+      intact <= 1'b0;
+      rec_valid <= 1'b0;
+      copy_done <= 1'b0;
+    end else begin
+      rep_valid <= 1'b0;
+      intact <= 1'b0;
+      rec_valid <= 1'b0;
+      copy_done <= 1'b0;
+      if (take) wr_ptr_q <= wr_ptr_q + 1'b1;
+      if (end_of_stream) eos_pending_q <= 1'b1;
+
+      case (state_q)
+        S_FETCH: begin
+          if (eos_pending_q && pos_q == eos_at_q && !end_of_stream) begin
+            // FrameStreamDecoder::end_of_stream, with every byte before it processed: a hunt in progress (its
+            // garbage and a partial magic) is one garbage run, a partial frame is truncated with all its bytes.
+            eos_pending_q <= 1'b0;
+            rep_valid <= hunting_q ? skipped_q != '0 : off_q != '0;
+            rep_garbage <= hunting_q;
+            rep_bytes <= hunting_q ? skipped_q : CntW'(off_q);
+            hunting_q <= 1'b0;
+            m_q <= '0;
+            skipped_q <= '0;
+            off_q <= '0;
+            hdr_ok_q <= 1'b0;
+            start_q <= pos_q;
+          end else if (pos_q != wr_ptr_q) begin
+            state_q <= S_EXEC;
+          end
+        end
+
+        S_EXEC: begin
+          pos_q <= pos_q + 1'b1;
+          state_q <= S_FETCH;
+          if (hunting_q) begin
+            // ---- hunting for the magic (FrameStreamDecoder::hunt) ----
+            skipped_q <= skipped_q + 1'b1;
+            if (b == magic_byte(m_q)) begin
+              if (m_q == 2'd3) begin
+                // The magic, at `start`: the run of garbage before it is one report, and a frame is expected
+                // there. The engine goes back over the 4 magic bytes, so the frame CRC starts at the magic.
+                rep_valid <= skipped_q != CntW'(3);
+                rep_garbage <= 1'b1;
+                rep_bytes <= skipped_q - CntW'(3);
+                hunting_q <= 1'b0;
+                m_q <= '0;
+                off_q <= '0;
+                hdr_ok_q <= 1'b0;
+                pos_q <= start_q;
+              end else begin
+                m_q <= m_q + 2'd1;
+              end
+            end else if (b == magic_byte(2'd0)) begin
+              // The partial magic was garbage; this byte may begin the magic.
+              m_q <= 2'd1;
+              start_q <= pos_q;
+            end else begin
+              m_q <= '0;
+              start_q <= pos_q + 1'b1;
+            end
+          end else begin
+            // ---- expecting a frame: the byte at offset `off` ----
+            off_q <= off_q + 1'b1;
+            window_q <= window_next[215:0];
+            if (!hdr_ok_q) begin
+              bad_sphere <= 1'b0;
+              sbyte_q <= '0;
+              if (at_magic_q) begin
+                if (b != magic_byte(off_q[1:0])) begin
+                  // Bad magic: hunt from the frame's first byte, nothing dropped yet.
+                  hunting_q <= 1'b1;
+                  skipped_q <= '0;
+                  m_q <= '0;
+                  pos_q <= start_q;
+                end
+              end else if (at_header_end_q && !header_bad) begin  // (a header error: below)
+                hdr_ok_q <= 1'b1;
+                fb_q <= fb_of_count;
+              end
+            end else begin
+              if (in_payload_q) begin
+                // Payload: one byte of a sphere record; its last byte checks the sphere and gives the record.
+                srec_q <= srec_next[183:0];
+                sbyte_q <= (sbyte_q == 5'(Rec - 1)) ? 5'd0 : sbyte_q + 5'd1;
+                if (sbyte_q == 5'(Rec - 1)) begin
+                  rec_valid <= 1'b1;
+                  rec_copy <= 1'b0;
+                  if (s_bad) bad_sphere <= 1'b1;
+                end
+              end else begin
+                // Trailer: the CRC of header and payload.
+                if (at_trailer_q) fcrc_calc_q <= crc_run;
+                fcrc_car_q <= {fcrc_car_q[23:0], b};
+              end
+              if (cut_candidate) begin
+                // v3: a magic 27 bytes back; check whether the header it begins is intact.
+                state_q <= S_CAND;
+                cand_sr_q <= window_next[223:32];
+                cand_car_q <= window_next[31:0];
+                cand_cnt_q <= '0;
+                cand_final_q <= at_last_q;
+              end else if (at_last_q) begin
+                state_q <= S_VERDICT;
+              end
+            end
+          end
+        end
+
+        S_CAND: begin
+          if (cand_cnt_q != 5'd24) begin
+            cand_cnt_q <= cand_cnt_q + 5'd1;
+            cand_sr_q <= {cand_sr_q[183:0], 8'd0};
+          end else if (crc_cand == cand_car_q) begin
+            // An intact header inside the frame: the frame was cut there. Truncated, with the bytes before it;
+            // the frame that header begins is expected at once.
+            rep_valid <= 1'b1;
+            rep_garbage <= 1'b0;
+            rep_bytes <= CntW'(cut_at);
+            pos_q <= start_q + PW'(cut_at);
+            start_q <= start_q + PW'(cut_at);
+            off_q <= '0;
+            hdr_ok_q <= 1'b0;
+            state_q <= S_FETCH;
+          end else begin
+            state_q <= cand_final_q ? S_VERDICT : S_FETCH;
+          end
+        end
+
+        S_VERDICT: begin
+          if (crc_error) begin
+            state_q <= S_FETCH;  // (below)
+          end else begin
+            // The frame arrived intact: the receiver's sequence rules and content checks decide.
+            intact <= 1'b1;
+            state_q <= S_ADMIT;
+          end
+        end
+
+        S_ADMIT: begin
+          if (admit_copy) begin
+            state_q <= S_CBEGIN;
+          end else if (admit_drop) begin
+            start_q <= pos_q;  // the next frame is expected right after this one
+            off_q <= '0;
+            hdr_ok_q <= 1'b0;
+            state_q <= S_FETCH;
+          end
+        end
+
+        S_CBEGIN: begin
+          pos_q <= start_q + PW'(H);
+          sbyte_q <= '0;
+          left_q <= hdr_count;
+          state_q <= (hdr_count == '0) ? S_CEND : S_CFETCH;
+        end
+
+        S_CFETCH: state_q <= S_CEXEC;
+
+        S_CEXEC: begin
+          pos_q <= pos_q + 1'b1;
+          srec_q <= srec_next[183:0];
+          state_q <= S_CFETCH;
+          if (sbyte_q == 5'(Rec - 1)) begin
+            sbyte_q <= '0;
+            rec_valid <= 1'b1;
+            rec_copy <= 1'b1;
+            left_q <= left_q - 1'b1;
+            if (left_q == (AW + 1)'(1)) state_q <= S_CEND;
+          end else begin
+            sbyte_q <= sbyte_q + 5'd1;
+          end
+        end
+
+        S_CEND: begin
+          copy_done <= 1'b1;
+          pos_q <= start_q + PW'(fb_q);
+          start_q <= start_q + PW'(fb_q);
+          off_q <= '0;
+          hdr_ok_q <= 1'b0;
+          state_q <= S_FETCH;
+        end
+
+        default: state_q <= S_FETCH;
+      endcase
+      if (header_error || crc_error) begin
+        // A damaged frame: its first byte dropped, a hunt from the next (the model drops one byte and hunts).
+        rep_valid <= 1'b1;
+        rep_garbage <= 1'b0;
+        rep_bytes <= CntW'(1);
+        hunting_q <= 1'b1;
+        skipped_q <= '0;
+        m_q <= '0;
+        pos_q <= start_q + 1'b1;
+        start_q <= start_q + 1'b1;
+      end
+    end
+  end
+
+  // ---- Datapath registers: no reset (their valid bits above say when they mean anything) ----
+  always_ff @(posedge clk) begin
+    if (end_of_stream) eos_at_q <= take ? wr_ptr_q + 1'b1 : wr_ptr_q;  // a byte in the same clock comes first
+    count_x24_q <= (count_q << 4) + (count_q << 3);
+    if (sbyte_q == 5'(Rec - 1)) begin
+      // The record that completes with the byte at pos (used only when rec_valid rises with it).
+      rec_x <= srec_next[XAt-:32];
+      rec_y <= srec_next[YAt-:32];
+      rec_z <= srec_next[ZAt-:32];
+      rec_r <= srec_next[RAt-:32];
+      rec_material <= srec_next[MaterialAt-:8];
+      rec_albedo <= srec_next[AlbedoAt-:24];  // fuzz and ior: checked by the CRC (ior also above), not stored
+    end
+    if (in_frame_exec && !hdr_ok_q) begin
+      // The header's fields as they go by (inspect_header reads them at these offsets).
+      if (off_q == OW'(ts_link_pkg::FracBitsAt)) hdr_frac <= b;
+      if (off_q >= OW'(SessionAt) && off_q < OW'(SessionAt + 4)) session_q <= {session_q[23:0], b};
+      if (off_q >= OW'(SequenceAt) && off_q < OW'(SequenceAt + 4)) hdr_sequence <= {hdr_sequence[23:0], b};
+      if (off_q >= OW'(CountAt) && off_q < OW'(CountAt + 4)) count_q <= count_next;
+      if (off_q >= OW'(LengthAt) && off_q < OW'(LengthAt + 4)) length_q <= length_next;
+      if (Wire == 3 && off_q >= OW'(HcrcAt)) hcrc_car_q <= {hcrc_car_q[15:0], b};
+      if (Wire == 3 && off_q == OW'(HcrcAt)) hcrc_calc_q <= crc_run;  // CRC of bytes 0..23
+    end
+    // The offset's decodes and the header's comparisons (see their declarations).
+    at_zero_q <= off_q == '0;
+    at_magic_q <= off_q < OW'(4);
+    at_version_q <= off_q == OW'(ts_link_pkg::VersionAt);
+    at_frac_q <= off_q == OW'(ts_link_pkg::FracBitsAt);
+    at_reserved_q <= off_q >= OW'(ts_link_pkg::ReservedAt) && off_q < OW'(ts_link_pkg::ReservedEnd);
+    at_count_check_q <= off_q == OW'(CountCheckAt);
+    at_header_end_q <= off_q == OW'(H - 1);
+    in_payload_q <= off_q < fb_q - OW'(4);
+    at_trailer_q <= off_q == fb_q - OW'(4);
+    at_last_q <= off_q == fb_q - OW'(1);
+    cut_window_q <= off_q >= OW'(2 * CutWindow - 1);
+    count_big_q <= count_q > Max32;
+    count_hi_gt_q <= count_q[23:0] > Max32[31:8];
+    count_hi_eq_q <= count_q[23:0] == Max32[31:8];
+    len_bad_q <= length_q != count_x24_q;
+    len_hi_bad_q <= length_q[23:0] != count_x24_q[31:8];
+    hcrc_hi_bad_q <= hcrc_car_q != hcrc_calc_q[31:8];
+    cut_magic_q <= window_q[215:184] == Magic;
+  end
+endmodule
