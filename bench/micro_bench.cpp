@@ -234,7 +234,7 @@ void BM_ReprojectField(benchmark::State& state) {
   render::Aovs aovs[2];
   for (int k = 0; k < 2; ++k) render::render_primary_aovs(scene, cameras[k], {.width = 640, .height = 480, .threads = 1}, aovs[k]);
   const render::PathSettings s{.width = 640, .height = 480, .spp = 1, .max_depth = 50, .seed = 1, .threads = 1, .sky = {}};
-  const render::ImageRgbF pass = render::render_path(scene, cameras[0], s);
+  const core::ImageRgbF pass = render::render_path(scene, cameras[0], s);
   render::TemporalAccumulator history({.threads = 1});
   int k = 0;
   for (auto _ : state) {
@@ -253,7 +253,7 @@ void BM_DenoiseField(benchmark::State& state) {
   render::Aovs aovs;
   render::render_primary_aovs(scene, camera, {.width = 640, .height = 480, .threads = 1}, aovs);
   const render::PathSettings s{.width = 640, .height = 480, .spp = 1, .max_depth = 50, .seed = 1, .threads = 1, .sky = {}};
-  const render::ImageRgbF pass = render::render_path(scene, camera, s);
+  const core::ImageRgbF pass = render::render_path(scene, camera, s);
   render::Denoiser denoiser;
   render::DenoiseSettings settings;
   settings.threads = 1;

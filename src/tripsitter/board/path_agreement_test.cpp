@@ -133,7 +133,7 @@ double quantised(float light) { return std::min(511.0, std::floor(static_cast<do
 // (the same streams, the same mirroring of view space; DeviceViewIsThisLoop checks it): `raw` the mean as
 // render_device_view gives it; the returned estimate of each sample stored as the device stores one (quantised).
 Estimate run_float(const std::vector<scene::Sphere>& view, int spp, int depth, std::uint64_t seed,
-                   render::ImageRgbF* raw = nullptr) {
+                   core::ImageRgbF* raw = nullptr) {
   std::vector<scene::Sphere> mirrored = view;  // mirrored in y and scaled down, as render_device_view does
   const double scale = 1.0 / render::kDeviceViewPixelsPerUnit;
   for (auto& s : mirrored) {
@@ -358,13 +358,13 @@ TEST(PathAgreement, DeviceViewIsThisLoop) {
   device::SceneMemory memory;
   run_device(mixed_world(), 1, 2, 1, memory);
   const std::vector<scene::Sphere> view = float_world(memory);
-  render::ImageRgbF raw;
+  core::ImageRgbF raw;
   run_float(view, 2, 4, 7, &raw);
   render::DeviceViewSettings settings;
   settings.spp = 2;
   settings.max_depth = 4;
   settings.seed = 7;
-  const render::ImageRgbF want = render::render_device_view(view, settings);
+  const core::ImageRgbF want = render::render_device_view(view, settings);
   ASSERT_EQ(raw.pixels.size(), want.pixels.size());
   for (std::size_t i = 0; i < kPixels; ++i) ASSERT_EQ(raw.pixels[i], want.pixels[i]) << i;
 }

@@ -68,7 +68,7 @@ struct Plane {
   float* row(int r, int width) const { return data + static_cast<std::size_t>(r) * static_cast<std::size_t>(width) * floats; }
 };
 
-std::vector<Plane> planes_of(render::ImageRgbF& image, render::Aovs* aovs) {
+std::vector<Plane> planes_of(core::ImageRgbF& image, render::Aovs* aovs) {
   std::vector<Plane> planes{{&image.pixels.data()->x, 3, kRowsTag}};
   if (aovs != nullptr) {
     planes.push_back({&aovs->albedo.data()->x, 3, kAlbedoTag});
@@ -80,12 +80,12 @@ std::vector<Plane> planes_of(render::ImageRgbF& image, render::Aovs* aovs) {
 
 }  // namespace
 
-render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& scene, const render::ThinLensCamera& camera,
+core::ImageRgbF render_path_shared(const Job& job, const render::PathScene& scene, const render::ThinLensCamera& camera,
                                      const render::PathSettings& settings,
                                      const std::function<void(std::uint64_t)>& on_samples, render::Aovs* aovs) {
   const int rank = job.rank(), size = job.size();
   const int width = settings.width, height = settings.height;
-  render::ImageRgbF image{width, height, std::vector<render::Vec3f>(render::Aovs::pixels(width, height))};
+  core::ImageRgbF image{width, height, std::vector<render::Vec3f>(render::Aovs::pixels(width, height))};
   if (aovs != nullptr) *aovs = render::Aovs(width, height);
   const std::vector<Plane> planes = planes_of(image, aovs);
   const auto samples_of = [&](int r) {

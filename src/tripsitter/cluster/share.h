@@ -21,7 +21,7 @@ namespace tripsitter::cluster {
 // so its progress is the whole job's. Other ranks return an image holding their own rows only and never
 // call on_samples. With `aovs`, the feature buffers (render/aov.h) travel the same way: rank 0's are
 // render::render_path's, other ranks' hold their own rows.
-render::ImageRgbF render_path_shared(const Job& job, const render::PathScene& scene, const render::ThinLensCamera& camera,
+core::ImageRgbF render_path_shared(const Job& job, const render::PathScene& scene, const render::ThinLensCamera& camera,
                                      const render::PathSettings& settings,
                                      const std::function<void(std::uint64_t)>& on_samples = {},
                                      render::Aovs* aovs = nullptr);

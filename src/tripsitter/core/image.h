@@ -1,4 +1,5 @@
-// Images: 12-bit colour as the monitor shows it, and 24-bit colour as the float renderer writes it.
+// Images: 12-bit colour as the monitor shows it, 24-bit colour as the float renderer writes it, and linear float
+// radiance as the float renderers compute it (colour.h encodes it to 24-bit sRGB).
 #pragma once
 
 #include <cstddef>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include <tripsitter/core/rgb444.h>
+#include <tripsitter/core/vec.h>
 
 namespace tripsitter::core {
 
@@ -38,6 +40,13 @@ struct ImageRgb8 {
   ImageRgb8() = default;
   ImageRgb8(int w, int h) : width(w), height(h), pixels(3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h)) {}
   bool operator==(const ImageRgb8&) const = default;
+};
+
+// Linear radiance per pixel (the mean of its samples, for the path tracer), row-major, top row first.
+struct ImageRgbF {
+  int width = 0;
+  int height = 0;
+  std::vector<Vec3f> pixels;  // width * height
 };
 
 // 12-bit to 24-bit colour, each channel v * 17.

@@ -53,8 +53,8 @@ std::string world_key(const modes::Frame& frame, int frac_bits) {
 
 }  // namespace
 
-std::shared_ptr<const render::ImageRgbF> ReferenceCache::get(const Key& key,
-                                                             const std::function<render::ImageRgbF()>& render) {
+std::shared_ptr<const core::ImageRgbF> ReferenceCache::get(const Key& key,
+                                                             const std::function<core::ImageRgbF()>& render) {
   std::shared_ptr<Entry> entry;
   {
     const std::lock_guard lock(mutex_);
@@ -62,7 +62,7 @@ std::shared_ptr<const render::ImageRgbF> ReferenceCache::get(const Key& key,
     if (!slot) slot = std::make_shared<Entry>();
     entry = slot;
   }
-  std::call_once(entry->once, [&] { entry->image = std::make_shared<const render::ImageRgbF>(render()); });
+  std::call_once(entry->once, [&] { entry->image = std::make_shared<const core::ImageRgbF>(render()); });
   return entry->image;
 }
 
@@ -115,7 +115,7 @@ Point evaluate(const Configuration& config, const scene::Scene& scene, const Eva
   compare.reference_spp = settings.reference_spp;
   compare.seed = settings.seed;
   compare.threads = 1;
-  std::shared_ptr<const render::ImageRgbF> reference;
+  std::shared_ptr<const core::ImageRgbF> reference;
   if (device::traces_paths(preset, source.wire)) {
     reference = references.get(
         {world_key(frame, preset.frac_bits()), preset.path->depth, settings.reference_spp, settings.seed},

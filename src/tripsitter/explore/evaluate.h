@@ -10,6 +10,7 @@
 #include <string>
 #include <tuple>
 
+#include <tripsitter/core/image.h>
 #include <tripsitter/explore/point.h>
 #include <tripsitter/render/device_view.h>
 #include <tripsitter/scene/scene.h>
@@ -29,13 +30,13 @@ class ReferenceCache {
  public:
   using Key = std::tuple<std::string, int, int, std::uint64_t>;  // world (as text), depth, spp, seed
   // The reference of `key`, rendered by `render` the first time it is asked for.
-  std::shared_ptr<const render::ImageRgbF> get(const Key& key, const std::function<render::ImageRgbF()>& render);
+  std::shared_ptr<const core::ImageRgbF> get(const Key& key, const std::function<core::ImageRgbF()>& render);
   std::size_t size() const;
 
  private:
   struct Entry {
     std::once_flag once;
-    std::shared_ptr<const render::ImageRgbF> image;
+    std::shared_ptr<const core::ImageRgbF> image;
   };
   mutable std::mutex mutex_;
   std::map<Key, std::shared_ptr<Entry>> entries_;

@@ -63,7 +63,7 @@ AccumulatedImage accumulated_image(const device::FrameMemory& memory) {
 
 int default_reference_spp(int device_spp) { return std::max(256, 4 * device_spp); }
 
-render::ImageRgbF device_path_reference(const Frame& frame, const device::DevicePreset& preset,
+core::ImageRgbF device_path_reference(const Frame& frame, const device::DevicePreset& preset,
                                         const PathComparisonSettings& settings) {
   if (!preset.path) throw std::invalid_argument("device_path_reference: preset " + preset.name + " does not path-trace");
   if (frame.scene_memory == nullptr)
@@ -96,14 +96,14 @@ PathComparison compare_device_path(const Frame& frame, const device::DevicePrese
   out.late_lines = frame.device.late_lines;
   out.spheres = view.size();
 
-  const render::ImageRgbF rendered = settings.reference != nullptr ? render::ImageRgbF{}
+  const core::ImageRgbF rendered = settings.reference != nullptr ? core::ImageRgbF{}
                                                                    : device_path_reference(frame, preset, settings);
-  const render::ImageRgbF& reference = settings.reference != nullptr ? *settings.reference : rendered;
+  const core::ImageRgbF& reference = settings.reference != nullptr ? *settings.reference : rendered;
 
   // Each part's pixels with samples, in both images, as one row each: compare_linear over them alone. Part 0 is
   // every pixel, 1 the sky, 2 + t the spheres of material type t met first by the camera ray.
   constexpr std::size_t kParts = 5;
-  std::array<render::ImageRgbF, kParts> part_image, part_reference;
+  std::array<core::ImageRgbF, kParts> part_image, part_reference;
   const render::PathScene world(view);
   for (std::size_t i = 0; i < device_image.counts.size(); ++i) {
     if (device_image.counts[i] == 0) continue;

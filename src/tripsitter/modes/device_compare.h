@@ -35,7 +35,7 @@ std::vector<scene::Sphere> scene_memory_spheres(const device::SceneMemory& memor
 // pixel late ever since reads as that world's. The board must have shown worlds of one content since its reset
 // (as `render` does) for the image to be the world's alone.
 struct AccumulatedImage {
-  render::ImageRgbF mean;            // 640 x 480
+  core::ImageRgbF mean;            // 640 x 480
   std::vector<std::uint8_t> counts;  // samples per pixel, row by row
   std::size_t without_samples = 0;   // pixels of count 0
   int min_count = 0;                 // over the pixels with samples (0 when there are none)
@@ -50,7 +50,7 @@ struct PathComparisonSettings {
   std::function<void(int row)> on_row;  // the reference's progress, from its worker threads
   // The reference rendered already (device_path_reference of a frame of the same world, with the same settings), for callers
   // that compare many frames of one world; null: rendered here.
-  const render::ImageRgbF* reference = nullptr;
+  const core::ImageRgbF* reference = nullptr;
 };
 
 // The figures over a subset of the pixels with samples.
@@ -81,7 +81,7 @@ int default_reference_spp(int device_spp);
 
 // The float path tracer's picture compare_device_path compares the frame with: render_device_view of the world in
 // its scene memory at settings.reference_spp (0: the default for the frame's samples) and the preset's depth.
-render::ImageRgbF device_path_reference(const Frame& frame, const device::DevicePreset& preset,
+core::ImageRgbF device_path_reference(const Frame& frame, const device::DevicePreset& preset,
                                         const PathComparisonSettings& settings);
 
 // Compares an hw frame of a path-tracing preset (frame.frame_memory set; the frame's world in frame.scene_memory)

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <tripsitter/board/board.h>
+#include <tripsitter/core/colour.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/host/view.h>
 #include <tripsitter/render/camera.h>
@@ -167,14 +168,14 @@ class PathSource final : public FrameSource {
         denoise(s, variance);
       }
     }
-    frame_.rgb = render::to_srgb8(frame_.linear);
+    frame_.rgb = core::to_srgb8(frame_.linear);
     frame_.aovs = aovs;
     frame_.samples = s.spp;
     frame_.mean_samples = s.spp;
     return frame_;
   }
 
-  render::ImageRgbF trace_samples(const render::PathSettings& s, render::Aovs* aovs) {
+  core::ImageRgbF trace_samples(const render::PathSettings& s, render::Aovs* aovs) {
     return config_.trace ? config_.trace(path_scene_, lens(), s, config_.on_samples, aovs)
                          : render::render_path(path_scene_, lens(), s, config_.on_samples, aovs);
   }
@@ -188,8 +189,8 @@ class PathSource final : public FrameSource {
     second.spp = s.spp - first.spp;
     second.first_sample = s.first_sample + static_cast<std::uint32_t>(first.spp);
     render::Aovs other(s.width, s.height);
-    const render::ImageRgbF a = trace_samples(first, &aovs_);
-    const render::ImageRgbF b = trace_samples(second, &other);
+    const core::ImageRgbF a = trace_samples(first, &aovs_);
+    const core::ImageRgbF b = trace_samples(second, &other);
     const float wa = static_cast<float>(first.spp) / static_cast<float>(s.spp), wb = 1 - wa;
     frame_.linear = {s.width, s.height, std::vector<render::Vec3f>(a.pixels.size())};
     std::vector<float> variance(a.pixels.size());
@@ -197,7 +198,7 @@ class PathSource final : public FrameSource {
       frame_.linear.pixels[i] = a.pixels[i] * wa + b.pixels[i] * wb;
       // Two estimates of the mean, each of about half the samples: the variance of their mean is about
       // (a - b)^2 / 4 (a noisy estimate of it, which the denoiser smooths before use).
-      const float d = render::luminance(a.pixels[i]) - render::luminance(b.pixels[i]);
+      const float d = core::luminance(a.pixels[i]) - core::luminance(b.pixels[i]);
       variance[i] = d * d / 4;
       aovs_.albedo[i] = aovs_.albedo[i] * wa + other.albedo[i] * wb;
       aovs_.normal[i] = aovs_.normal[i] * wa + other.normal[i] * wb;
@@ -219,7 +220,7 @@ class PathSource final : public FrameSource {
   // accumulated while it is still, and filtered.
   const Frame& refine() {
     frame_.linear = interactive_.frame(lens());
-    frame_.rgb = render::to_srgb8(frame_.linear);
+    frame_.rgb = core::to_srgb8(frame_.linear);
     frame_.aovs = &interactive_.aovs();
     still_frames_ = moved_ ? 1 : std::min(still_frames_ + 1, kMaxProgressiveSamples);
     moved_ = false;

@@ -35,7 +35,7 @@ namespace tripsitter::modes {
 
 // How the path tracer makes one picture (render::render_path by default; MPI shares the rows among ranks).
 // It fills the feature buffers when given them.
-using PathTrace = std::function<render::ImageRgbF(const render::PathScene&, const render::ThinLensCamera&,
+using PathTrace = std::function<core::ImageRgbF(const render::PathScene&, const render::ThinLensCamera&,
                                                   const render::PathSettings&,
                                                   const std::function<void(std::uint64_t)>& on_samples,
                                                   render::Aovs* aovs)>;
@@ -86,7 +86,7 @@ struct Frame {
                                         // (progressive path: frames since the camera last moved; see mean_samples)
   double mean_samples = 0;              // progressive path: samples per pixel, mean over the picture, reprojected share included
   // path: the picture in linear light (before the sRGB encoding of rgb) and its feature buffers
-  render::ImageRgbF linear;
+  core::ImageRgbF linear;
   const render::Aovs* aovs = nullptr;   // progressive: always; stills: with SourceConfig::aovs or denoise
   // hw: the device's memories as this frame left them, valid until the next draw() (null in the other modes):
   // scene memory, the world the frame shows in raw fixed point; and with a path-tracing preset frame memory,

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <tripsitter/board/board.h>
+#include <tripsitter/core/colour.h>
 #include <tripsitter/host/view.h>
 #include <tripsitter/modes/animation.h>
 #include <tripsitter/render/camera.h>
@@ -87,11 +88,11 @@ TEST(FrameSource, PathIsThePathTracerFromTheScenesCamera) {
   c.spp = 3;
   c.seed = 9;
   const render::PathScene path_scene(scene.spheres);
-  const render::ImageRgbF expected =
+  const core::ImageRgbF expected =
       render::render_path(path_scene, render::ThinLensCamera(scene.camera, 80, 60), path_settings(c));
   const auto source = make_frame_source(scene, c);
   const Frame& frame = source->draw();  // lives as long as the source
-  EXPECT_EQ(frame.rgb, render::to_srgb8(expected));
+  EXPECT_EQ(frame.rgb, core::to_srgb8(expected));
   EXPECT_EQ(frame.samples, 3);
   EXPECT_TRUE(frame.vga.pixels.empty());
 }

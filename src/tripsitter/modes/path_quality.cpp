@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include <tripsitter/core/colour.h>
 #include <tripsitter/display/exr.h>
 #include <tripsitter/display/png.h>
 
@@ -108,11 +109,11 @@ double PathQuality::orbit_noise_relmse() {
   return worst;
 }
 
-void PathQuality::keep(const std::string& name, const render::ImageRgbF& picture) const {
+void PathQuality::keep(const std::string& name, const core::ImageRgbF& picture) const {
   if (settings_.pictures_dir.empty() || name.empty()) return;
   std::filesystem::create_directories(settings_.pictures_dir);
   const std::string path = (std::filesystem::path(settings_.pictures_dir) / (name + ".png")).string();
-  auto written = display::write_png(path, render::to_srgb8(picture));
+  auto written = display::write_png(path, core::to_srgb8(picture));
   if (settings_.say) settings_.say(written ? "wrote " + path : written.error().message);
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <tripsitter/core/image.h>
 #include <tripsitter/modes/frame_source.h>
 #include <tripsitter/render/image_error.h>
 #include <tripsitter/scene/scene.h>
@@ -33,7 +34,7 @@ struct QualitySettings {
 // A reference rendered as two halves of its samples with different seeds: their mean is the reference, and
 // their difference tells how noisy it still is.
 struct Reference {
-  render::ImageRgbF image;
+  core::ImageRgbF image;
   // The reference's own expected relMSE against the converged image, estimated as relMSE(half a, half b) / 4:
   // the floor under every figure measured against it.
   double noise_relmse = 0;
@@ -70,7 +71,7 @@ class PathQuality {
   SourceConfig config() const;
   Reference render_reference(int orbit_steps, int spp);
   const Reference& orbit_reference(int frame);
-  void keep(const std::string& name, const render::ImageRgbF& picture) const;
+  void keep(const std::string& name, const core::ImageRgbF& picture) const;
 
   scene::Scene scene_;
   QualitySettings settings_;

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tripsitter/render/path_tracer.h>
+#include <tripsitter/core/colour.h>
 #include <tripsitter/render/primary.h>
 
 namespace tripsitter::render {
 
 core::ImageRgb8 albedo_image(const Aovs& aovs) {
   core::ImageRgb8 out(aovs.width, aovs.height);
-  encode_srgb8(aovs.albedo.data(), aovs.albedo.size(), 1.0f, out.pixels.data());
+  core::encode_srgb8(aovs.albedo.data(), aovs.albedo.size(), 1.0f, out.pixels.data());
   return out;
 }
 

@@ -3,8 +3,8 @@
 // 2017). It smooths what the samples' noise allows and stops at changes of normal, depth and luminance; colour
 // is filtered divided by the albedo and multiplied back, so that neighbouring surfaces' colours do not bleed.
 // Deterministic: every pixel sums its taps in a fixed order, so any thread count gives the same bytes (and the
-// AVX2 and SSE2 builds the same bytes too). docs/denoiser.md describes the filter, its parameters, its cost and
-// what it blurs.
+// AVX2 and SSE2 builds the same bytes too: eight pixels at a time on render/simd8.h, each lane the IEEE operation).
+// docs/denoiser.md describes the filter, its parameters, its cost and what it blurs.
 #pragma once
 
 #include <span>
@@ -19,10 +19,10 @@ struct DenoiseInput {
   int height = 0;
   // Linear radiance per pixel, row-major: the mean of the pixel's samples.
   std::span<const Vec3f> color;
-  // Per pixel: the variance of that mean's luminance (Rec. 709: 0.2126 r + 0.7152 g + 0.0722 b), i.e. the
-  // samples' variance divided by their number. Empty: estimated from the neighbours (Denoiser::estimate_variance
-  // with DenoiseSettings::variance_radius). 0 for exact pixels: a pixel whose 3x3 neighbourhood is all exact
-  // keeps its value (up to rounding).
+  // Per pixel: the variance of that mean's luminance (Rec. 709, core/colour.h), i.e. the samples' variance
+  // divided by their number. Empty: estimated from the neighbours (Denoiser::estimate_variance with
+  // DenoiseSettings::variance_radius). 0 for exact pixels: a pixel whose 3x3 neighbourhood is all exact keeps its
+  // value (up to rounding).
   std::span<const float> variance;
   // Albedo, normal and depth of the same pixels (width x height). Null: no feature buffers, so only luminance
   // stops the filter (every pixel counts as one surface of albedo 1).
@@ -70,7 +70,6 @@ class Denoiser {
   void estimate_variance(const DenoiseInput& input, int radius, int threads, std::span<float> out);
 
  private:
-  struct Planes;
   // Sizes the planes for an image of width x height and taps up to `reach` pixels away.
   void layout(int width, int height, int reach);
   // The first plane's first float, on a cache line.
@@ -79,7 +78,7 @@ class Denoiser {
   void estimate(const DenoiseInput& input, int radius, int threads, float* out);
 
   // Structure-of-arrays planes of stride_ floats a row (the image plus at least `pad_` columns of blank pixels on
-  // each side, which every weight rejects), rows interleaved (denoise.cpp).
+  // each side, which every weight rejects), rows interleaved (denoise.cpp: Planes).
   int width_ = 0, height_ = 0, pad_ = 0, stride_ = 0;
   std::vector<float> storage_;
   std::vector<float> variance_;  // the spatial estimate, when the input has none

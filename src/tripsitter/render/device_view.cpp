@@ -25,11 +25,11 @@ std::vector<scene::Sphere> mirrored_in_y(std::span<const scene::Sphere> spheres)
 
 }  // namespace
 
-ImageRgbF render_device_view(std::span<const scene::Sphere> view_spheres, const DeviceViewSettings& settings,
-                             const std::function<void(int row)>& on_row) {
+core::ImageRgbF render_device_view(std::span<const scene::Sphere> view_spheres, const DeviceViewSettings& settings,
+                                   const std::function<void(int row)>& on_row) {
   constexpr int kWidth = core::kScreenWidth, kHeight = core::kScreenHeight;
   const PathScene scene(mirrored_in_y(view_spheres));
-  ImageRgbF image{kWidth, kHeight, std::vector<Vec3f>(std::size_t{kWidth} * std::size_t{kHeight})};
+  core::ImageRgbF image{kWidth, kHeight, std::vector<Vec3f>(std::size_t{kWidth} * std::size_t{kHeight})};
   const RngStreams streams(settings.seed);
   const float inv_spp = 1.0f / static_cast<float>(settings.spp);
   core::parallel_for(0, kHeight, settings.threads, [&](int row) {
@@ -48,7 +48,7 @@ ImageRgbF render_device_view(std::span<const scene::Sphere> view_spheres, const 
   return image;
 }
 
-LinearComparison compare_linear(const ImageRgbF& image, const ImageRgbF& reference) {
+LinearComparison compare_linear(const core::ImageRgbF& image, const core::ImageRgbF& reference) {
   if (image.width != reference.width || image.height != reference.height ||
       image.pixels.size() != reference.pixels.size())
     throw std::invalid_argument("compare_linear: the image and the reference differ in size");

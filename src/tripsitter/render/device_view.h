@@ -34,8 +34,8 @@ struct DeviceViewSettings {
 // seed gives the same image whatever the thread count: pixel (col, row) draws from its own stream,
 // RngStreams(seed).stream(row * 640 + col), as in the path tracer. `on_row(row)` is called, from the worker thread
 // that traced it, as each row is written.
-ImageRgbF render_device_view(std::span<const scene::Sphere> view_spheres, const DeviceViewSettings& settings,
-                             const std::function<void(int row)>& on_row = {});
+core::ImageRgbF render_device_view(std::span<const scene::Sphere> view_spheres, const DeviceViewSettings& settings,
+                                   const std::function<void(int row)>& on_row = {});
 
 // A linear comparison of an image against a reference of the same size, over every pixel and channel.
 struct LinearComparison {
@@ -43,6 +43,6 @@ struct LinearComparison {
   double relmse = 0;              // mean of (x - ref)^2 / (ref^2 + 0.01)
 };
 // Throws std::invalid_argument when the sizes differ. Two empty images compare as {0, 0}.
-LinearComparison compare_linear(const ImageRgbF& image, const ImageRgbF& reference);
+LinearComparison compare_linear(const core::ImageRgbF& image, const core::ImageRgbF& reference);
 
 }  // namespace tripsitter::render

@@ -24,7 +24,7 @@ DeviceViewSettings quick(int threads = 0) {
   return s;
 }
 
-const Vec3f& at(const ImageRgbF& image, int col, int row) {
+const Vec3f& at(const core::ImageRgbF& image, int col, int row) {
   return image.pixels[static_cast<std::size_t>(row) * static_cast<std::size_t>(image.width) +
                       static_cast<std::size_t>(col)];
 }
@@ -41,7 +41,7 @@ scene::Sphere grey_ball(core::Vec3d center, double radius) {
 
 TEST(DeviceView, EmptySceneIsTheSkyWithUpAtTheTopOfTheScreen) {
   const DeviceViewSettings settings = quick();
-  const ImageRgbF image = render_device_view({}, settings);
+  const core::ImageRgbF image = render_device_view({}, settings);
   ASSERT_EQ(image.width, 640);
   ASSERT_EQ(image.height, 480);
   ASSERT_EQ(image.pixels.size(), 640u * 480u);
@@ -56,7 +56,7 @@ TEST(DeviceView, EmptySceneIsTheSkyWithUpAtTheTopOfTheScreen) {
 TEST(DeviceView, SphereStraightAheadCoversTheCentreAtTheDevicesScale) {
   const std::vector<scene::Sphere> spheres{grey_ball({0, 0, 2000}, 500)};
   const DeviceViewSettings settings = quick();
-  const ImageRgbF image = render_device_view(spheres, settings);
+  const core::ImageRgbF image = render_device_view(spheres, settings);
   // A ray (dx, 0, 320) meets the sphere when 2000 sin(angle) <= 500, i.e. |dx| <= 82.6 pixels: column 400 is on the
   // disc, 405 off it. A grey ball lit by a sky no brighter than 1 returns at most half of it, below the sky there.
   for (const int col : {320, 400, 240}) {
@@ -74,7 +74,7 @@ TEST(DeviceView, SphereBelowTheViewAxisIsDrawnBelowTheScreenCentre) {
   // the rays, or only the spheres, would draw it at row 176.
   const std::vector<scene::Sphere> spheres{grey_ball({0, 400, 2000}, 100)};
   const DeviceViewSettings settings = quick();
-  const ImageRgbF image = render_device_view(spheres, settings);
+  const core::ImageRgbF image = render_device_view(spheres, settings);
   EXPECT_NE(at(image, 320, 304), sky_of_pixel(settings.sky, 320, 304));
   EXPECT_EQ(at(image, 320, 176), sky_of_pixel(settings.sky, 320, 176));
 }
@@ -82,8 +82,8 @@ TEST(DeviceView, SphereBelowTheViewAxisIsDrawnBelowTheScreenCentre) {
 TEST(DeviceView, SameSeedSameImageWhateverTheThreads) {
   const std::vector<scene::Sphere> spheres{grey_ball({0, 0, 2000}, 500), grey_ball({300, 200, 900}, 150)};
   std::atomic<int> rows{0};
-  const ImageRgbF one = render_device_view(spheres, quick(1));
-  const ImageRgbF two = render_device_view(spheres, quick(2), [&](int) { ++rows; });
+  const core::ImageRgbF one = render_device_view(spheres, quick(1));
+  const core::ImageRgbF two = render_device_view(spheres, quick(2), [&](int) { ++rows; });
   EXPECT_EQ(rows.load(), 480);
   EXPECT_TRUE(one.pixels == two.pixels);
   // The bounces are random: another seed changes the image, so the equality above is not trivial.
@@ -97,7 +97,7 @@ TEST(DeviceView, PixelIsTheMeanOfTracePathOverItsOwnStream) {
   const std::vector<scene::Sphere> spheres{grey_ball({0, 0, 2000}, 500)};
   DeviceViewSettings settings = quick();
   settings.spp = 3;
-  const ImageRgbF image = render_device_view(spheres, settings);
+  const core::ImageRgbF image = render_device_view(spheres, settings);
   const int col = 330, row = 250;
   const PathScene scene(spheres);
   Rng rng = RngStreams(settings.seed).stream(static_cast<std::uint64_t>(row) * kWidth + col);
@@ -107,25 +107,25 @@ TEST(DeviceView, PixelIsTheMeanOfTracePathOverItsOwnStream) {
   EXPECT_EQ(at(image, col, row), sum * (1.0f / 3));
 }
 
-ImageRgbF tiny(int width, int height, std::vector<Vec3f> pixels) { return {width, height, std::move(pixels)}; }
+core::ImageRgbF tiny(int width, int height, std::vector<Vec3f> pixels) { return {width, height, std::move(pixels)}; }
 
 TEST(CompareLinear, IdenticalImagesDifferByNothing) {
-  const ImageRgbF image = render_device_view({}, quick());
+  const core::ImageRgbF image = render_device_view({}, quick());
   const LinearComparison c = compare_linear(image, image);
   EXPECT_EQ(c.mean_relative_bias, 0);
   EXPECT_EQ(c.relmse, 0);
 }
 
 TEST(CompareLinear, ScaledImageHasThatBias) {
-  const ImageRgbF reference = render_device_view({}, quick());
-  ImageRgbF scaled = reference;
+  const core::ImageRgbF reference = render_device_view({}, quick());
+  core::ImageRgbF scaled = reference;
   for (Vec3f& p : scaled.pixels) p = p * 1.1f;
   EXPECT_NEAR(compare_linear(scaled, reference).mean_relative_bias, 0.1, 1e-6);
 }
 
 TEST(CompareLinear, MatchesAHandComputation) {
-  const ImageRgbF reference = tiny(2, 1, {{1, 0, 0}, {0, 0, 0}});
-  const ImageRgbF image = tiny(2, 1, {{1.5f, 0.25f, 0}, {0, 0, 0}});
+  const core::ImageRgbF reference = tiny(2, 1, {{1, 0, 0}, {0, 0, 0}});
+  const core::ImageRgbF image = tiny(2, 1, {{1.5f, 0.25f, 0}, {0, 0, 0}});
   // Six channels: 0.5^2 / (1 + 0.01) + 0.25^2 / (0 + 0.01) = 0.2475... + 6.25, the rest 0; means 1.75 / 6 and 1 / 6.
   const LinearComparison c = compare_linear(image, reference);
   EXPECT_NEAR(c.relmse, (0.25 / 1.01 + 6.25) / 6, 1e-12);
@@ -137,8 +137,8 @@ TEST(CompareLinear, MatchesAHandComputation) {
 }
 
 TEST(CompareLinear, SizeMismatchThrows) {
-  const ImageRgbF wide = tiny(2, 1, {{0, 0, 0}, {0, 0, 0}});
-  const ImageRgbF tall = tiny(1, 2, {{0, 0, 0}, {0, 0, 0}});
+  const core::ImageRgbF wide = tiny(2, 1, {{0, 0, 0}, {0, 0, 0}});
+  const core::ImageRgbF tall = tiny(1, 2, {{0, 0, 0}, {0, 0, 0}});
   EXPECT_THROW(compare_linear(wide, tall), std::invalid_argument);
   EXPECT_THROW(compare_linear(wide, tiny(1, 1, {{0, 0, 0}})), std::invalid_argument);
 }

@@ -54,17 +54,17 @@ TEST(EmbreeScene, PathTracerOverEmbreeMatchesOursInDistribution) {
   const PathScene scene(sc.spheres);
   const ThinLensCamera camera(sc.camera, 64, 36);
   PathSettings s{.width = 64, .height = 36, .spp = 16, .max_depth = 50, .seed = 3, .threads = 2, .sky = {}};
-  const ImageRgbF ours = render_path(scene, camera, s);
+  const core::ImageRgbF ours = render_path(scene, camera, s);
   const EmbreeScene embree(scene, 2);
-  const ImageRgbF theirs = render_path(scene, embree, camera, s);
+  const core::ImageRgbF theirs = render_path(scene, embree, camera, s);
   s.seed = 4;
-  const ImageRgbF other_seed = render_path(scene, camera, s);
-  const auto mean = [](const ImageRgbF& img) {
+  const core::ImageRgbF other_seed = render_path(scene, camera, s);
+  const auto mean = [](const core::ImageRgbF& img) {
     double sum = 0;
     for (const auto& p : img.pixels) sum += (p.x + p.y + p.z) / 3.0;
     return sum / static_cast<double>(img.pixels.size());
   };
-  const auto rmse = [](const ImageRgbF& a, const ImageRgbF& b) {
+  const auto rmse = [](const core::ImageRgbF& a, const core::ImageRgbF& b) {
     double sum = 0;
     for (std::size_t i = 0; i < a.pixels.size(); ++i) {
       const Vec3f d = a.pixels[i] - b.pixels[i];

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tripsitter/core/colour.h>
 #include <tripsitter/render/aov.h>
-#include <tripsitter/render/path_tracer.h>
 
 namespace tripsitter::render {
 namespace {
@@ -70,7 +70,7 @@ TEST(AovImages, DepthRunsByInverseDepthFromWhiteAtTheNearestToBlackAtTheFarthest
   EXPECT_EQ(normal.pixels[6], 127);   // 0: grey
   EXPECT_EQ(albedo.pixels[0], 255);
   EXPECT_EQ(albedo.pixels[3], 0);
-  EXPECT_EQ(albedo.pixels[6], srgb_encode(0.5f));
+  EXPECT_EQ(albedo.pixels[6], core::srgb_encode(0.5f));
 }
 
 }  // namespace tripsitter::render

@@ -30,7 +30,7 @@ InteractivePath::InteractivePath(const PathScene& scene, const PathSettings& pat
 
 void InteractivePath::restart() { restart_ = true; }
 
-const ImageRgbF& InteractivePath::frame(const ThinLensCamera& camera) {
+const core::ImageRgbF& InteractivePath::frame(const ThinLensCamera& camera) {
   const int w = path_.width, h = path_.height;
   const ThinLensCamera::Pinhole view = camera.pinhole();
   if (!settings_.reuse && frames_ > 0 && !same_view(view, view_)) restart_ = true;

@@ -48,7 +48,7 @@ class InteractivePath {
 
   // The next frame seen from `camera` (made for the settings' size): linear radiance per pixel, valid until the
   // next call. A camera other than the last frame's is a move (without reuse, it starts over).
-  const ImageRgbF& frame(const ThinLensCamera& camera);
+  const core::ImageRgbF& frame(const ThinLensCamera& camera);
 
   // Frames since the last restart.
   std::uint64_t frames() const { return frames_; }
@@ -66,8 +66,8 @@ class InteractivePath {
   TemporalAccumulator history_;
   Denoiser denoiser_;
   Aovs aovs_, guides_;
-  ImageRgbF pass_;     // the frame's new samples (on the rows it traced)
-  ImageRgbF picture_;  // what frame() returns
+  core::ImageRgbF pass_;     // the frame's new samples (on the rows it traced)
+  core::ImageRgbF picture_;  // what frame() returns
   std::vector<float> variance_, spatial_;
   std::uint64_t frames_ = 0;
   double mean_samples_ = 0;

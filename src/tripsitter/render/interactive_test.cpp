@@ -38,9 +38,9 @@ TEST(Interactive, AStillCameraWithoutTheDenoiserIsPlainAccumulation) {
   for (std::uint32_t k = 0; k < 3; ++k) {
     PathSettings s = f.path();
     s.first_sample = k;
-    const ImageRgbF pass = render_path(f.scene, f.camera(), s);
+    const core::ImageRgbF pass = render_path(f.scene, f.camera(), s);
     for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += pass.pixels[i];
-    const ImageRgbF& picture = loop.frame(f.camera());
+    const core::ImageRgbF& picture = loop.frame(f.camera());
     for (std::size_t i = 0; i < sum.size(); ++i)
       ASSERT_EQ(picture.pixels[i], sum[i] * (1.0f / static_cast<float>(k + 1))) << "frame " << k << " pixel " << i;
   }
@@ -55,8 +55,8 @@ TEST(Interactive, RowsTakeTurnsAndTogetherMakeTheWholePass) {
   InteractivePath loop(f.scene, f.path(), settings);
   loop.frame(f.camera());
   EXPECT_DOUBLE_EQ(loop.mean_samples(), static_cast<double>((kHeight + 1) / 2) / kHeight);  // rows 0, 2, ...
-  const ImageRgbF& picture = loop.frame(f.camera());
-  const ImageRgbF whole = render_path(f.scene, f.camera(), f.path());  // sample 0 of every pixel
+  const core::ImageRgbF& picture = loop.frame(f.camera());
+  const core::ImageRgbF whole = render_path(f.scene, f.camera(), f.path());  // sample 0 of every pixel
   EXPECT_EQ(picture.pixels, whole.pixels);
 }
 

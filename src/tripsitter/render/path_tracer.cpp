@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <utility>
 
@@ -226,7 +225,7 @@ struct AovSums {
 // kAovs: *aovs is written (a template parameter, so that renders without it pay nothing for it).
 template <SamplerKind kKind, bool kAovs, class Query>
 void render_rows_over(const PathScene& scene, const Query& query, const ThinLensCamera& camera,
-                      const PathSettings& settings, int first, int step, ImageRgbF& image,
+                      const PathSettings& settings, int first, int step, core::ImageRgbF& image,
                       const std::function<void(int)>& on_row, Aovs* aovs) {
   const int rows = first < settings.height ? (settings.height - first + step - 1) / step : 0;
   const float inv_spp = 1.0f / static_cast<float>(settings.spp);
@@ -296,7 +295,7 @@ void render_rows_over(const PathScene& scene, const Query& query, const ThinLens
 
 template <SamplerKind kKind, class Query>
 void render_rows_of(const PathScene& scene, const Query& query, const ThinLensCamera& camera,
-                    const PathSettings& settings, int first, int step, ImageRgbF& image,
+                    const PathSettings& settings, int first, int step, core::ImageRgbF& image,
                     const std::function<void(int)>& on_row, Aovs* aovs) {
   if (aovs != nullptr) {
     render_rows_over<kKind, true>(scene, query, camera, settings, first, step, image, on_row, aovs);
@@ -307,7 +306,7 @@ void render_rows_of(const PathScene& scene, const Query& query, const ThinLensCa
 
 template <class Query>
 void render_rows(const PathScene& scene, const Query& query, const ThinLensCamera& camera,
-                 const PathSettings& settings, int first, int step, ImageRgbF& image,
+                 const PathSettings& settings, int first, int step, core::ImageRgbF& image,
                  const std::function<void(int)>& on_row, Aovs* aovs) {
   switch (settings.sampler) {
     case SamplerKind::kSobol:
@@ -326,7 +325,7 @@ void fit(Aovs& aovs, int width, int height) {
     aovs = Aovs(width, height);
 }
 
-ImageRgbF blank_image(const PathSettings& settings) {
+core::ImageRgbF blank_image(const PathSettings& settings) {
   return {settings.width, settings.height,
           std::vector<Vec3f>(static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height))};
 }
@@ -345,13 +344,13 @@ Vec3f trace_path(const PathScene& scene, Ray ray, int max_depth, const Sky& sky,
 }
 
 void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings, int first,
-                      int step, ImageRgbF& image, const std::function<void(int)>& on_row, Aovs* aovs) {
+                      int step, core::ImageRgbF& image, const std::function<void(int)>& on_row, Aovs* aovs) {
   render_rows(scene, scene.bvh(), camera, settings, first, step, image, on_row, aovs);
 }
 
-ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
-                      const std::function<void(std::uint64_t)>& on_samples, Aovs* aovs) {
-  ImageRgbF image = blank_image(settings);
+core::ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
+                            const std::function<void(std::uint64_t)>& on_samples, Aovs* aovs) {
+  core::ImageRgbF image = blank_image(settings);
   if (aovs != nullptr) fit(*aovs, settings.width, settings.height);
   render_rows(
       scene, scene.bvh(), camera, settings, 0, 1, image,
@@ -362,83 +361,15 @@ ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, cons
   return image;
 }
 
-ImageRgbF render_path(const PathScene& scene, const HitQuery& query, const ThinLensCamera& camera,
-                      const PathSettings& settings) {
-  ImageRgbF image = blank_image(settings);
+core::ImageRgbF render_path(const PathScene& scene, const HitQuery& query, const ThinLensCamera& camera,
+                            const PathSettings& settings) {
+  core::ImageRgbF image = blank_image(settings);
   render_rows(scene, query, camera, settings, 0, 1, image, {}, nullptr);
   return image;
 }
 
 bool BruteForceQuery::intersect(const Ray& ray, float t_min, float t_max, SphereHit& hit) const {
   return intersect_brute_force(scene_.centers(), scene_.radii(), ray, t_min, t_max, hit);
-}
-
-std::uint8_t srgb_encode(float linear) {
-  const float v = std::fmin(std::fmax(linear, 0.0f), 1.0f);
-  const float e = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-  return static_cast<std::uint8_t>(std::lround(e * 255.0f));
-}
-
-namespace {
-
-// srgb_encode without pow: it is monotonic, so level k covers [start[k], start[k + 1]); a 4096-bin table gives
-// the level at each bin's start, and one bin never spans more than one level boundary (the curve's steepest
-// slope, 12.92 * 255 levels per unit, is under 4096 bins per unit), so one comparison finishes the job.
-class SrgbTable {
- public:
-  SrgbTable() {
-    start_[0] = -INFINITY;
-    for (int k = 1; k < 256; ++k) {
-      // The smallest float in [0, 1] that encodes to k or more, by bisection on the bit patterns (ordered like
-      // the values for non-negative floats).
-      std::uint32_t lo = 0, hi = std::bit_cast<std::uint32_t>(1.0f);
-      while (lo < hi) {
-        const std::uint32_t mid = lo + (hi - lo) / 2;
-        if (srgb_encode(std::bit_cast<float>(mid)) >= k) hi = mid;
-        else lo = mid + 1;
-      }
-      start_[k] = std::bit_cast<float>(lo);
-    }
-    start_[256] = INFINITY;
-    int level = 0;
-    for (int bin = 0; bin < kBins; ++bin) {
-      const float x = static_cast<float>(bin) / kBins;
-      while (start_[level + 1] <= x) ++level;
-      bin_level_[bin] = static_cast<std::uint8_t>(level);
-    }
-  }
-  std::uint8_t encode(float linear) const {
-    // Clamped to [0, 1], NaN to 0, as in srgb_encode (comparisons: std::fmin and std::fmax are library calls).
-    const float v = linear > 0.0f ? (linear < 1.0f ? linear : 1.0f) : 0.0f;
-    const int bin = std::min(static_cast<int>(v * kBins), kBins - 1);
-    const int level = bin_level_[bin];
-    return static_cast<std::uint8_t>(v >= start_[level + 1] ? level + 1 : level);
-  }
-
- private:
-  static constexpr int kBins = 4096;
-  float start_[257];
-  std::uint8_t bin_level_[kBins];
-};
-
-}  // namespace
-
-core::ImageRgb8 to_srgb8(const ImageRgbF& image) { return to_srgb8(image, 1.0f); }
-
-core::ImageRgb8 to_srgb8(const ImageRgbF& image, float scale) {
-  core::ImageRgb8 out(image.width, image.height);
-  encode_srgb8(image.pixels.data(), image.pixels.size(), scale, out.pixels.data());
-  return out;
-}
-
-void encode_srgb8(const Vec3f* linear, std::size_t count, float scale, std::uint8_t* out) {
-  static const SrgbTable table;
-  for (std::size_t i = 0; i < count; ++i) {
-    const Vec3f p = linear[i] * scale;
-    out[3 * i + 0] = table.encode(p.x);
-    out[3 * i + 1] = table.encode(p.y);
-    out[3 * i + 2] = table.encode(p.z);
-  }
 }
 
 }  // namespace tripsitter::render

@@ -74,13 +74,6 @@ struct PathSettings {
   }
 };
 
-// Linear radiance per pixel, the mean of its samples.
-struct ImageRgbF {
-  int width = 0;
-  int height = 0;
-  std::vector<Vec3f> pixels;
-};
-
 // Nearest hit distance a ray accepts, so that a bounced ray does not hit the surface it leaves (world
 // units: bounced rays have unit directions).
 inline constexpr float kRayEpsilon = 1e-3f;
@@ -96,8 +89,8 @@ Vec3f trace_path(const PathScene& scene, Ray ray, int max_depth, const Sky& sky,
 // Renders the image. `on_samples(n)` is called, from worker threads, as rows of n samples complete. With `aovs`,
 // also fills *aovs (aov.h: the first hits of the camera rays, means over the same samples; resized to width x
 // height); the image is the same bytes either way.
-ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
-                      const std::function<void(std::uint64_t)>& on_samples = {}, Aovs* aovs = nullptr);
+core::ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings,
+                            const std::function<void(std::uint64_t)>& on_samples = {}, Aovs* aovs = nullptr);
 
 // Renders only rows first, first + step, first + 2 step, ... of the image into `image` (sized width x height;
 // other rows are left as they are). Every pixel gets exactly the value render_path gives it, whatever the
@@ -105,7 +98,8 @@ ImageRgbF render_path(const PathScene& scene, const ThinLensCamera& camera, cons
 // that traced it, as each row is written (width x spp samples). With `aovs` (sized width x height by the caller),
 // the same rows of *aovs are written too. REQUIRES 0 <= first, step >= 1.
 void render_path_rows(const PathScene& scene, const ThinLensCamera& camera, const PathSettings& settings, int first,
-                      int step, ImageRgbF& image, const std::function<void(int)>& on_row = {}, Aovs* aovs = nullptr);
+                      int step, core::ImageRgbF& image, const std::function<void(int)>& on_row = {},
+                      Aovs* aovs = nullptr);
 
 // A closest-hit query in place of the scene's BVH, with Bvh::intersect's contract, so that other tracers can be
 // measured on exactly the path tracer's work (`tripsitter bench` runs it over Embree and over brute force).
@@ -126,16 +120,7 @@ class BruteForceQuery final : public HitQuery {
 };
 
 // render_path with `query` finding the hits (one virtual call per ray).
-ImageRgbF render_path(const PathScene& scene, const HitQuery& query, const ThinLensCamera& camera,
-                      const PathSettings& settings);
-
-// The IEC 61966-2-1 sRGB transfer function of a linear value clamped to [0, 1], to 8 bits.
-std::uint8_t srgb_encode(float linear);
-// Every channel through srgb_encode (by table: the same bytes, without pow), after multiplying by `scale`.
-core::ImageRgb8 to_srgb8(const ImageRgbF& image);
-core::ImageRgb8 to_srgb8(const ImageRgbF& image, float scale);
-// The same for `count` pixels from `linear` into 3 * count bytes at `out`: a part of an image, for callers that
-// share an image's rows among threads.
-void encode_srgb8(const Vec3f* linear, std::size_t count, float scale, std::uint8_t* out);
+core::ImageRgbF render_path(const PathScene& scene, const HitQuery& query, const ThinLensCamera& camera,
+                            const PathSettings& settings);
 
 }  // namespace tripsitter::render

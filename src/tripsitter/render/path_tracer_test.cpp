@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <mutex>
@@ -12,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <tripsitter/core/colour.h>
 #include <tripsitter/core/sanitizers.h>
 #include <tripsitter/render/test_util.h>
 #include <tripsitter/scene/builtin.h>
@@ -33,13 +33,13 @@ scene::CameraSettings looking_at_origin() {
   return c;
 }
 
-double mean(const ImageRgbF& img) {
+double mean(const core::ImageRgbF& img) {
   double sum = 0;
   for (const auto& p : img.pixels) sum += (p.x + p.y + p.z) / 3.0;
   return sum / static_cast<double>(img.pixels.size());
 }
 
-double rmse(const ImageRgbF& a, const ImageRgbF& b) {
+double rmse(const core::ImageRgbF& a, const core::ImageRgbF& b) {
   double sum = 0;
   for (std::size_t i = 0; i < a.pixels.size(); ++i) {
     const Vec3f d = a.pixels[i] - b.pixels[i];
@@ -219,7 +219,7 @@ TEST(PathTracer, WhiteLambertianUnderWhiteSkyConvergesToTheSky) {
   for (const SamplerKind k : kSamplers) {
     PathSettings s = settings(32, 32, 64, 200, 5, 0, k);
     s.sky = {{1, 1, 1}, {1, 1, 1}};
-    const ImageRgbF img = render_path(scene, ThinLensCamera(looking_at_origin(), 32, 32), s);
+    const core::ImageRgbF img = render_path(scene, ThinLensCamera(looking_at_origin(), 32, 32), s);
     for (const auto& p : img.pixels) {
       ASSERT_NEAR(p.x, 1.0f, 1e-3f) << name(k);
       ASSERT_NEAR(p.z, 1.0f, 1e-3f) << name(k);
@@ -250,8 +250,8 @@ TEST(PathTracer, DielectricOfIndexOneIsInvisible) {
   const ThinLensCamera cam(looking_at_origin(), 48, 32);
   for (const SamplerKind k : kSamplers) {
     const PathSettings s = settings(48, 32, 16, 50, 9, 0, k);
-    const ImageRgbF a = render_path(PathScene(without), cam, s);
-    const ImageRgbF b = render_path(PathScene(with), cam, s);
+    const core::ImageRgbF a = render_path(PathScene(without), cam, s);
+    const core::ImageRgbF b = render_path(PathScene(with), cam, s);
     if (k == SamplerKind::kIndependent) {
       // The same random numbers meet the same surfaces: only float rounding of the straight-through rays differs.
       // (Under kSobol the pass through the sphere is a bounce, which takes a pair: the numbers after it differ.)
@@ -294,7 +294,7 @@ TEST(PathTracer, ErrorFallsLikeOneOverRootSppOrFaster) {
   const PathScene scene(cluster.spheres);
   const ThinLensCamera cam(cluster.camera, 40, 30);
   PathSettings s = settings(40, 30, 4096, 20, 100, 0, SamplerKind::kIndependent);
-  const ImageRgbF reference = render_path(scene, cam, s);
+  const core::ImageRgbF reference = render_path(scene, cam, s);
   for (const SamplerKind k : kSamplers) {
     s.sampler = k;
     s.spp = 4;
@@ -321,16 +321,16 @@ TEST(PathTracer, SameSeedSameBytesOnOneAndTwoThreads) {
   const ThinLensCamera cam(field.camera, 64, 36);
   for (const SamplerKind k : kSamplers) {
     PathSettings s = settings(64, 36, 4, 50, 77, 1, k);
-    const core::ImageRgb8 one = to_srgb8(render_path(scene, cam, s));
+    const core::ImageRgb8 one = core::to_srgb8(render_path(scene, cam, s));
     s.threads = 2;
-    const core::ImageRgb8 two = to_srgb8(render_path(scene, cam, s));
+    const core::ImageRgb8 two = core::to_srgb8(render_path(scene, cam, s));
     EXPECT_EQ(one, two) << name(k);
     s.seed = 78;
-    EXPECT_NE(to_srgb8(render_path(scene, cam, s)), two) << name(k);
+    EXPECT_NE(core::to_srgb8(render_path(scene, cam, s)), two) << name(k);
   }
 }
 
-void expect_same_pixels(const ImageRgbF& got, const ImageRgbF& want, const std::string& what) {
+void expect_same_pixels(const core::ImageRgbF& got, const core::ImageRgbF& want, const std::string& what) {
   ASSERT_EQ(got.pixels.size(), want.pixels.size()) << what;
   for (std::size_t i = 0; i < want.pixels.size(); ++i) {
     ASSERT_EQ(got.pixels[i].x, want.pixels[i].x) << what << " pixel " << i;
@@ -345,16 +345,16 @@ TEST(PathTracer, RowsSharedInAnyStepGiveTheWholeImagesValues) {
   const ThinLensCamera cam(field.camera, 40, 23);
   for (const SamplerKind k : kSamplers) {
     const PathSettings s = settings(40, 23, 2, 50, 5, 1, k);
-    const ImageRgbF whole = render_path(scene, cam, s);
+    const core::ImageRgbF whole = render_path(scene, cam, s);
     for (int step : {1, 2, 3, 4, 30}) {
-      ImageRgbF parts{40, 23, std::vector<Vec3f>(40 * 23, Vec3f{-1, -1, -1})};
+      core::ImageRgbF parts{40, 23, std::vector<Vec3f>(40 * 23, Vec3f{-1, -1, -1})};
       for (int first = 0; first < step; ++first) render_path_rows(scene, cam, s, first, step, parts);
       std::string what = name(k);
       what.append(" step ").append(std::to_string(step));
       expect_same_pixels(parts, whole, what);
     }
     // Rows of one share leave the others untouched.
-    ImageRgbF one_share{40, 23, std::vector<Vec3f>(40 * 23, Vec3f{-1, -1, -1})};
+    core::ImageRgbF one_share{40, 23, std::vector<Vec3f>(40 * 23, Vec3f{-1, -1, -1})};
     render_path_rows(scene, cam, s, 1, 2, one_share);
     EXPECT_EQ(one_share.pixels[0].x, -1.0f);
     EXPECT_EQ(one_share.pixels[40].x, whole.pixels[40].x);
@@ -382,7 +382,7 @@ void expect_each_pixel_traced_alone(const scene::Scene& sc, int width, int heigh
   const ThinLensCamera cam(sc.camera, width, height);
   PathSettings s = settings(width, height, spp, max_depth, 3, 2, sampler);
   s.first_sample = first_sample;
-  const ImageRgbF image = render_path(scene, cam, s);
+  const core::ImageRgbF image = render_path(scene, cam, s);
   const RngStreams streams(s.seed + first_sample);
   const SobolSampler sobol(s.seed);
   for (int row = 0; row < height; ++row) {
@@ -434,18 +434,18 @@ TEST(PathTracer, FirstSampleContinuesTheSequence) {
   const ThinLensCamera cam(field.camera, 24, 14);
   PathSettings s = settings(24, 14, 3, 50, 40, 2, SamplerKind::kIndependent);
   s.first_sample = 2;
-  const ImageRgbF from_two = render_path(scene, cam, s);
+  const core::ImageRgbF from_two = render_path(scene, cam, s);
   s.first_sample = 0;
   s.seed = 42;
   expect_same_pixels(from_two, render_path(scene, cam, s), "independent");
 
   s = settings(24, 14, 4, 50, 40, 2, SamplerKind::kSobol);
-  const ImageRgbF whole = render_path(scene, cam, s);
-  ImageRgbF sum{24, 14, std::vector<Vec3f>(24 * 14)};
+  const core::ImageRgbF whole = render_path(scene, cam, s);
+  core::ImageRgbF sum{24, 14, std::vector<Vec3f>(24 * 14)};
   s.spp = 1;
   for (std::uint32_t k = 0; k < 4; ++k) {
     s.first_sample = k;
-    const ImageRgbF pass = render_path(scene, cam, s);
+    const core::ImageRgbF pass = render_path(scene, cam, s);
     for (std::size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += pass.pixels[i];
   }
   for (Vec3f& p : sum.pixels) p = p * 0.25f;
@@ -453,7 +453,7 @@ TEST(PathTracer, FirstSampleContinuesTheSequence) {
 }
 
 // relMSE: the mean over pixels and channels of (x - ref)^2 / (ref^2 + 0.01).
-double rel_mse(const ImageRgbF& image, const ImageRgbF& reference) {
+double rel_mse(const core::ImageRgbF& image, const core::ImageRgbF& reference) {
   double sum = 0;
   for (std::size_t i = 0; i < image.pixels.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
@@ -477,7 +477,7 @@ TEST(PathTracer, SobolErrorIsLowerThanIndependentAtEqualSamples) {
     const PathScene scene(sc->spheres);
     const ThinLensCamera cam(sc->camera, 48, 27);
     PathSettings s = settings(48, 27, core::kSanitized ? 256 : 512, sc->render.max_depth, 1000, 0, SamplerKind::kSobol);
-    const ImageRgbF reference = render_path(scene, cam, s);
+    const core::ImageRgbF reference = render_path(scene, cam, s);
     for (const int spp : {4, 16}) {
       double error[2] = {0, 0};
       for (const SamplerKind k : kSamplers) {
@@ -506,7 +506,7 @@ TEST(PathTracer, AovsAreTheFirstHits) {
   for (const SamplerKind k : kSamplers) {
     const PathSettings s = settings(w, h, 4, 5, 8, 2, k);
     Aovs aovs;
-    const ImageRgbF image = render_path(scene, cam, s, {}, &aovs);
+    const core::ImageRgbF image = render_path(scene, cam, s, {}, &aovs);
     ASSERT_EQ(aovs.width, w);
     ASSERT_EQ(aovs.height, h);
     ASSERT_EQ(aovs.depth.size(), static_cast<std::size_t>(w * h));
@@ -552,7 +552,7 @@ TEST(PathTracer, AovsAreTheSameOnAnyThreadsAndRowSplit) {
   for (const SamplerKind k : kSamplers) {
     PathSettings s = settings(40, 23, 3, 50, 5, 1, k);
     Aovs one, two;
-    const ImageRgbF image = render_path(scene, cam, s, {}, &one);
+    const core::ImageRgbF image = render_path(scene, cam, s, {}, &one);
     s.threads = 2;
     render_path(scene, cam, s, {}, &two);
     EXPECT_TRUE(same_aovs(one, two)) << name(k);
@@ -561,14 +561,14 @@ TEST(PathTracer, AovsAreTheSameOnAnyThreadsAndRowSplit) {
     EXPECT_TRUE(std::any_of(one.depth.begin(), one.depth.end(), [](float d) { return d < INFINITY; }));
     for (const int step : {2, 3}) {
       Aovs parts(40, 23);
-      ImageRgbF rows{40, 23, std::vector<Vec3f>(40 * 23)};
+      core::ImageRgbF rows{40, 23, std::vector<Vec3f>(40 * 23)};
       for (int first = 0; first < step; ++first) render_path_rows(scene, cam, s, first, step, rows, {}, &parts);
       EXPECT_TRUE(same_aovs(parts, one)) << name(k) << " step " << step;
       expect_same_pixels(rows, image, name(k));
     }
     // Rows of one share leave the others' AOVs untouched.
     Aovs share(40, 23);
-    ImageRgbF rows{40, 23, std::vector<Vec3f>(40 * 23)};
+    core::ImageRgbF rows{40, 23, std::vector<Vec3f>(40 * 23)};
     render_path_rows(scene, cam, s, 1, 2, rows, {}, &share);
     EXPECT_EQ(share.depth[0], INFINITY);
     EXPECT_EQ(share.albedo[0], (Vec3f{0, 0, 0}));
@@ -587,42 +587,13 @@ TEST(PathTracer, ProgressCountsEverySample) {
   // A share of the rows reports each of its rows once, and no other.
   std::mutex mutex;
   std::vector<int> rows;
-  ImageRgbF image{20, 10, std::vector<Vec3f>(200)};
+  core::ImageRgbF image{20, 10, std::vector<Vec3f>(200)};
   render_path_rows(PathScene(spheres), ThinLensCamera(looking_at_origin(), 20, 10), s, 1, 3, image, [&](int row) {
     const std::lock_guard lock(mutex);
     rows.push_back(row);
   });
   std::sort(rows.begin(), rows.end());
   EXPECT_EQ(rows, (std::vector<int>{1, 4, 7}));
-}
-
-TEST(Srgb, EncodesTheStandardCurve) {
-  EXPECT_EQ(srgb_encode(0.0f), 0);
-  EXPECT_EQ(srgb_encode(1.0f), 255);
-  EXPECT_EQ(srgb_encode(2.0f), 255);
-  EXPECT_EQ(srgb_encode(-1.0f), 0);
-  EXPECT_EQ(srgb_encode(0.5f), 188);        // 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354
-  EXPECT_EQ(srgb_encode(0.002f), 7);        // linear segment: 12.92 * 0.002 * 255 = 6.6
-  EXPECT_EQ(srgb_encode(0.2159f), 128);     // 128 / 255 decodes to 0.21586
-}
-
-TEST(Srgb, TheTableEncodesEveryValueAsTheCurveDoes) {
-  // Every 97th float in [0, 1] (11 million values, so every level boundary is approached within 97 floats),
-  // values outside [0, 1] and NaN.
-  ImageRgbF img{1, 0, {}};
-  std::vector<float> values;
-  for (std::uint32_t bits = 0; bits <= std::bit_cast<std::uint32_t>(1.0f); bits += 97) values.push_back(std::bit_cast<float>(bits));
-  for (float v : {-1.0f, 1.5f, INFINITY, -INFINITY, NAN, 1.0f}) values.push_back(v);
-  for (std::size_t i = 0; i < values.size(); i += 3)
-    img.pixels.push_back({values[i], values[std::min(i + 1, values.size() - 1)], values[std::min(i + 2, values.size() - 1)]});
-  img.height = static_cast<int>(img.pixels.size());
-  const core::ImageRgb8 out = to_srgb8(img);
-  for (std::size_t i = 0; i < img.pixels.size(); ++i) {
-    const Vec3f& p = img.pixels[i];
-    ASSERT_EQ(out.pixels[3 * i + 0], srgb_encode(p.x)) << p.x;
-    ASSERT_EQ(out.pixels[3 * i + 1], srgb_encode(p.y)) << p.y;
-    ASSERT_EQ(out.pixels[3 * i + 2], srgb_encode(p.z)) << p.z;
-  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include <tripsitter/core/colour.h>
 #include <tripsitter/core/parallel.h>
 #include <tripsitter/render/simd8.h>
 
@@ -115,7 +116,7 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
       if (!traced(row)) return;
       const std::size_t first = static_cast<std::size_t>(row) * static_cast<std::size_t>(w);
       for (std::size_t i = first; i < first + static_cast<std::size_t>(w); ++i) {
-        const float l = luminance(pass[i]);
+        const float l = core::luminance(pass[i]);
         sum_[i] += pass[i];
         square_sum_[i] += l * l;
         count_[i] += 1;
@@ -184,7 +185,7 @@ void TemporalAccumulator::add(std::span<const Vec3f> pass, const Aovs& aovs, con
         // The new sample, or nothing on a row this pass did not trace.
         const bool sampled = traced(row);
         const Vec3f sample = sampled ? pass[i] : Vec3f{};
-        const float l = luminance(sample);
+        const float l = core::luminance(sample);
         if (weight > 1e-3f) {
           // Each tap's mean, weighted; the history counts for at most max_history_moving samples.
           const float kept = std::min(samples / weight, settings_.max_history_moving);
@@ -225,7 +226,7 @@ void TemporalAccumulator::mean_variance(std::span<float> out) const {
         out[i] = 0;
         continue;
       }
-      const float l = luminance(sum_[i] / n);
+      const float l = core::luminance(sum_[i] / n);
       out[i] = std::max(0.0f, square_sum_[i] / n - l * l) / n;
     }
   });

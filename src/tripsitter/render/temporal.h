@@ -26,9 +26,6 @@ struct TemporalSettings {
   int threads = 0;  // 0: all hardware threads
 };
 
-// Linear luminance (Rec. 709 primaries) of linear RGB.
-inline float luminance(const Vec3f& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-
 class TemporalAccumulator {
  public:
   explicit TemporalAccumulator(TemporalSettings settings = {}) : settings_(settings) {}
@@ -51,8 +48,8 @@ class TemporalAccumulator {
 
   int width() const { return width_; }
   int height() const { return height_; }
-  // Per pixel: the sum of its samples' radiance, the sum of their luminances' squares, and their number (not a
-  // whole number after a move: the reprojected share of earlier samples).
+  // Per pixel: the sum of its samples' radiance, the sum of their luminances' squares (core::luminance, Rec.
+  // 709), and their number (not a whole number after a move: the reprojected share of earlier samples).
   std::span<const Vec3f> sum() const { return sum_; }
   std::span<const float> luminance_square_sum() const { return square_sum_; }
   std::span<const float> count() const { return count_; }

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <tripsitter/core/colour.h>
 #include <tripsitter/render/rng.h>
 
 namespace tripsitter::render {
@@ -60,7 +61,7 @@ TEST(Temporal, AStillCameraIsPlainAccumulationBitForBit) {
     acc.add(pass, aovs, camera.pinhole());
     for (std::size_t i = 0; i < sum.size(); ++i) {
       sum[i] += pass[i];
-      squares[i] += luminance(pass[i]) * luminance(pass[i]);
+      squares[i] += core::luminance(pass[i]) * core::luminance(pass[i]);
     }
     EXPECT_EQ(acc.reprojected(), 0u);
   }
