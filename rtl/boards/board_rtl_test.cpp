@@ -25,6 +25,7 @@
 #include "Vts_arty_top_standalone_1_planted.h"
 #include "Vts_arty_top_spi_1.h"
 #include "rtl_ports.h"
+#include "vga_frames.h"
 
 #include <tripsitter/board/board.h>
 #include <tripsitter/device/device.h>
@@ -167,30 +168,12 @@ class Board {
   std::vector<VgaSample> history_, pending_;
 };
 
-std::string describe(const VgaSample& s) {
-  std::ostringstream o;
-  o << "hsync_n " << s.hsync_n << " vsync_n " << s.vsync_n << " colour 0x" << std::hex << s.colour.packed;
-  return o.str();
-}
-
-// Empty if the frames are the same; else the first differing sample, with both values.
-std::string first_difference(const Frame& model, const Frame& rtl) {
-  for (std::size_t i = 0; i < model.size(); ++i) {
-    if (model[i] == rtl[i]) continue;
-    const int line = (static_cast<int>(i) / device::kVga640x480.h_total() + device::kVga640x480.v_visible) %
-                     device::kVga640x480.v_total();
-    const int col = static_cast<int>(i) % device::kVga640x480.h_total();
-    return "line " + std::to_string(line) + " column " + std::to_string(col) + ": model " + describe(model[i]) +
-           ", board " + describe(rtl[i]);
-  }
-  return "";
-}
+// Where two frames first differ, the second one the board's.
+std::string first_difference(const Frame& model, const Frame& board) { return rtl::first_difference(model, board, "board"); }
 
 Frame model_frame(device::Device& model) {
-  Frame f;
-  f.reserve(kFrameSamples);
-  model.run_frame_lines([&](std::span<const VgaSample> line) { f.insert(f.end(), line.begin(), line.end()); });
-  return f;
+  device::FrameStats stats;
+  return rtl::frame_samples(model, stats);
 }
 
 // Frames of the board until one is not `before`: it must be `after`, within `frames`, and the frame after it too

@@ -15,7 +15,6 @@
 #include <cstdint>
 #include <memory>
 #include <random>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,6 +24,7 @@
 #include "Vts_device_board_1_planted.h"
 #include "rtl_device.h"
 #include "verilated_device.h"
+#include "vga_frames.h"
 
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/preset.h>
@@ -35,8 +35,6 @@
 namespace tripsitter::device {
 namespace {
 
-constexpr int kFrameSamples = kVga640x480.h_total() * kVga640x480.v_total();
-
 // The RTL back-end for `preset` on `wire`, failing the test if this program has no such build.
 std::unique_ptr<Backend> rtl_device(const DevicePreset& preset, link::WireVersion wire) {
   auto made = rtl::make_rtl_device(preset, wire);
@@ -44,32 +42,8 @@ std::unique_ptr<Backend> rtl_device(const DevicePreset& preset, link::WireVersio
   return made ? std::move(made).value() : nullptr;
 }
 
-// A whole frame as the connector carries it, one sample per pixel clock from the start of vertical blanking.
-std::vector<VgaSample> frame_samples(Backend& device, FrameStats& stats) {
-  std::vector<VgaSample> samples;
-  samples.reserve(kFrameSamples);
-  stats = device.run_frame_lines([&](std::span<const VgaSample> line) { samples.insert(samples.end(), line.begin(), line.end()); });
-  return samples;
-}
-
-std::string describe(const VgaSample& s) {
-  std::ostringstream o;
-  o << "hsync_n " << s.hsync_n << " vsync_n " << s.vsync_n << " colour 0x" << std::hex << s.colour.packed;
-  return o.str();
-}
-
-// Empty if the frames are the same; else the first differing sample, with both values.
-std::string first_difference(const std::vector<VgaSample>& model, const std::vector<VgaSample>& rtl) {
-  if (model.size() != rtl.size()) return "sample counts differ";
-  for (std::size_t i = 0; i < model.size(); ++i) {
-    if (model[i] == rtl[i]) continue;
-    const int line = (static_cast<int>(i) / kVga640x480.h_total() + kVga640x480.v_visible) % kVga640x480.v_total();
-    const int col = static_cast<int>(i) % kVga640x480.h_total();
-    return "line " + std::to_string(line) + " column " + std::to_string(col) + ": model " + describe(model[i]) +
-           ", RTL " + describe(rtl[i]);
-  }
-  return "";
-}
+using rtl::first_difference;
+using rtl::frame_samples;
 
 // A world of random spheres (random_world: in view, behind the camera, around it, huge, tiny, at the formats'
 // limits), each with a surface (metals with random albedos), as a frame on `wire`.
