@@ -74,10 +74,6 @@ bool same_hardware(const device::DevicePreset& a, const device::DevicePreset& b)
          p.shade == q.shade && p.reflect == q.reflect && p.issue_interval == q.issue_interval;
 }
 
-std::string wire_name(link::WireVersion w) {
-  return w == link::WireVersion::kV1 ? "v1" : w == link::WireVersion::kV2 ? "v2" : "v3";
-}
-
 // "10 workers", or on the artix preset "9 sphere units".
 std::string workers(const device::DevicePreset& p) {
   const char* part = p.units ? " sphere unit" : " worker";
@@ -90,7 +86,8 @@ std::string rtl_builds() {
   std::string s;
   for (std::size_t i = 0; i < builds().size(); ++i) {
     const Build& b = builds()[i];
-    s += (i == 0 ? "" : "; ") + b.preset.name + " with " + workers(b.preset) + " on wire " + wire_name(b.wire);
+    s += (i == 0 ? "" : "; ") + b.preset.name + " with " + workers(b.preset) + " on wire " +
+         std::string(link::wire_name(b.wire));
   }
   return s;
 }
@@ -103,7 +100,7 @@ core::Result<std::unique_ptr<device::Backend>, std::string> make_rtl_device(cons
     if (same_hardware(b.preset, preset) && b.wire == wire) build = &b;
   if (build == nullptr)
     return std::string("the RTL is built for ") + rtl_builds() + ", not for " + preset.name + " with " +
-           workers(preset) + " on wire " + wire_name(wire);
+           workers(preset) + " on wire " + std::string(link::wire_name(wire));
   if (options.spi_hz < 1 || options.spi_hz > kMaxSpiHz)
     return "the RTL's SPI clock must be 1 Hz to " + std::to_string(kMaxSpiHz) +
            " Hz (the device samples SCLK with its 100 MHz clock, at least 4 clocks a half period), not " +

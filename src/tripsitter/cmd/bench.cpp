@@ -28,6 +28,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "options.h"
 
 namespace tripsitter::cmd {
 namespace {
@@ -405,9 +406,7 @@ void add_bench_command(CLI::App& app, Action& run) {
   cmd->add_option("--runs", o->runs, "Runs per figure; the median is reported")->capture_default_str()->check(CLI::Range(1, 101));
   cmd->add_flag("--json", o->json, "Print one JSON object (a key per figure, the machine first) instead of the table");
   cmd->add_flag("!--no-embree", o->embree, "Do not measure Embree, even where it is built in");
-  cmd->add_option("--scene", o->scene,
-                  "Measure this scene file (or built-in scene) instead of the suite: loading and BVH build timed apart "
-                  "from the frames");
+  add_scene_option(*cmd, o->scene, "measured instead of the suite: loading and BVH build timed apart from the frames");
   cmd->add_option("--mode", o->mode,
                   "With --scene: hw (device model, frames/s), normal (primary rays at 640x480, Mrays/s, with Embree) or "
                   "path (path tracer at the scene's size and depth, Msamples/s, with the path tracer over Embree)")
@@ -416,11 +415,9 @@ void add_bench_command(CLI::App& app, Action& run) {
   cmd->add_flag("!--no-quality", o->quality, "Suite: skip the path_relmse_field_* figures (the first run renders their references, minutes)");
   cmd->add_option("--cache", o->cache, "Suite: where the references of path_relmse_field_* are kept (empty: not kept)")
       ->capture_default_str();
-  cmd->add_option("--preset", o->preset,
-                  "With --scene and --mode hw: the device preset (" + join(device::preset_names()) +
-                      "); with path, 1 sample per pixel per frame and the camera orbiting 0.5 degrees back and forth, "
-                      "so that no pixel stops at 255 samples")
-      ->capture_default_str();
+  add_preset_option(*cmd, o->preset,
+                    "with --scene and --mode hw; with path, 1 sample per pixel per frame and the camera orbiting 0.5 "
+                    "degrees back and forth, so that no pixel stops at 255 samples");
   cmd->add_option("--pictures", o->pictures,
                   "Suite: write the pictures path_relmse_field_* and plain_relmse_field_* measure, and their references, "
                   "as PNG files in this directory");

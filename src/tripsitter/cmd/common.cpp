@@ -43,12 +43,6 @@ device::DevicePreset load_preset(const std::string& name, int workers, int bounc
   return *preset;
 }
 
-link::WireVersion parse_wire(const std::string& name) {
-  auto wire = link::wire_by_name(name);
-  if (!wire) throw InputError("unknown wire '" + name + "' (known: v1, v2, v3)");
-  return *wire;
-}
-
 modes::Mode parse_mode(const std::string& name) {
   auto mode = modes::mode_by_name(name);
   if (!mode) throw InputError("--mode must be hw, normal or path, not '" + name + "'");

@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "options.h"
 #include "device_choice.h"
 #include "device_loop.h"
 
@@ -26,7 +27,7 @@ struct DeviceOptions {
   int workers = 0;
   int spp = 0;    // path-tracing preset: 0 not given
   int depth = 0;
-  std::string wire = "v3";
+  link::WireVersion wire = link::WireVersion::kV3;
   std::uint64_t frames = 0;
   int scale = 1;
   double host_timeout_s = std::chrono::duration<double>(transport::StreamPort::kDefaultStallTimeout).count();
@@ -102,7 +103,7 @@ void print_receiver(const device::ReceiverStats& rx) {
 int run_device(const DeviceOptions& o) {
   if (o.headless && o.out_dir.empty()) throw InputError("--headless needs --out-dir DIR, where the frames go");
   if (!o.headless && !o.out_dir.empty()) throw InputError("--out-dir goes with --headless (the window shows the frames)");
-  const link::WireVersion wire = parse_wire(o.wire);
+  const link::WireVersion wire = o.wire;
   const device::DevicePreset preset = load_preset(o.preset, o.workers, -1, o.spp, o.depth);
   auto address = transport::parse_stream_address(o.listen);
   if (!address) throw InputError("--listen: " + address.error().message);
@@ -144,7 +145,7 @@ int run_device(const DeviceOptions& o) {
   if (preset.path)
     std::cerr << " (" << preset.path->spp << " samples per pixel per frame, " << preset.path->depth
               << " rays per path, accumulated while the world's content stays the same)";
-  std::cerr << ", wire " << o.wire << ", " << 1.0 / kVgaFrameSeconds << " frames/s; "
+  std::cerr << ", wire " << link::wire_name(o.wire) << ", " << 1.0 / kVgaFrameSeconds << " frames/s; "
             << (o.headless ? "writing each frame that shows a new world to " +
                                  (std::filesystem::path(o.out_dir) / "frame_NNNNNN.png").string()
                            : std::string("showing the frames in a window"))
@@ -202,7 +203,7 @@ void add_device_command(CLI::App& app, Action& run) {
                 "No window: write each frame that shows a new world to --out-dir as frame_NNNNNN.png, NNNNNN "
                 "the frame number");
   cmd->add_option("--out-dir", o->out_dir, "Directory for the frames (--headless); created if missing");
-  cmd->add_option("--preset", o->preset, "Device preset (" + join(device::preset_names()) + ")")->capture_default_str();
+  add_preset_option(*cmd, o->preset);
   cmd->add_option("--workers", o->workers,
                   "Number of device workers (the artix preset's sphere units), 1..640 (default: the preset's)")
       ->check(CLI::Range(1, 640));
@@ -212,7 +213,7 @@ void add_device_command(CLI::App& app, Action& run) {
                   "stops at 255)")
       ->check(CLI::Range(1, 255));
   cmd->add_option("--depth", o->depth, "--preset path: rays per path, 1..16 (default 4)")->check(CLI::Range(1, 16));
-  cmd->add_option("--wire", o->wire, "Link protocol the host speaks: v1 (the board's word), v2 (framed worlds, still decoded) or v3 (framed worlds with a header check and sessions)")->capture_default_str();
+  add_wire_option(*cmd, o->wire, "the one the host speaks");
   cmd->add_option("--frames", o->frames, "Stop after this many frames (default: run until SIGINT or SIGTERM)");
   cmd->add_option("--host-timeout", o->host_timeout_s,
                   "Seconds a host may send bytes without completing a world before it is dropped and the next "

@@ -15,6 +15,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "options.h"
 
 namespace tripsitter::cmd {
 namespace {
@@ -23,7 +24,7 @@ struct HostOptions {
   std::string connect;
   std::string scene = "demo";
   std::string keys;
-  std::string wire = "v3";
+  link::WireVersion wire = link::WireVersion::kV3;
   std::string preset = "wide";
   std::size_t transfer_bytes = link::SpiConfig{}.max_transfer_bytes;
   bool fast = false;
@@ -152,7 +153,7 @@ class ReconnectingLink {
 };
 
 int run_host(const HostOptions& o) {
-  const link::WireVersion wire = parse_wire(o.wire);
+  const link::WireVersion wire = o.wire;
   const device::DevicePreset preset = load_preset(o.preset, 0);
   scene::Scene scene = load_scene(o.scene);
   std::vector<host::KeyAction> actions = load_script(o.keys);
@@ -218,14 +219,12 @@ void add_host_command(CLI::App& app, Action& run) {
       "input, or no device at the address; exit 1: the connection was lost for good, the device was busy or\n"
       "did not answer, or it rejected the last world.");
   cmd->add_option("--connect", o->connect, "Address of the device, HOST:PORT")->required();
-  cmd->add_option("--scene", o->scene, "Built-in scene name (" + join(scene::builtin_names()) + ") or JSON scene file")
-      ->capture_default_str();
+  add_scene_option(*cmd, o->scene);
   cmd->add_option("--keys", o->keys,
                   "Key script ('-' for stdin; docs/key_script.md): lines like 'W 500ms', 'J 0.25s', 'R', 'wait 1s'. "
                   "Without one, the host sends the scene as loaded and exits");
-  cmd->add_option("--wire", o->wire, "v1 (one 8-byte word per sphere), v2 (framed worlds) or v3 (framed worlds with a header check and sessions)")->capture_default_str();
-  cmd->add_option("--preset", o->preset, "Device preset whose number formats the host rounds to (as the device's)")
-      ->capture_default_str();
+  add_wire_option(*cmd, o->wire);
+  add_preset_option(*cmd, o->preset, "the host rounds to its number formats, as the device's");
   cmd->add_option("--transfer-bytes", o->transfer_bytes, "Largest SPI transfer in bytes")
       ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
   cmd->add_flag("--fast", o->fast,

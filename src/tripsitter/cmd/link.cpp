@@ -22,13 +22,14 @@
 
 #include "commands.h"
 #include "common.h"
+#include "options.h"
 
 namespace tripsitter::cmd {
 namespace {
 
 struct LinkOptions {
   std::string scene = "demo";
-  std::string wire = "v3";
+  link::WireVersion wire = link::WireVersion::kV3;
   std::string preset = "wide";
   std::string input = "-";
   int worlds = 1;
@@ -38,9 +39,9 @@ struct LinkOptions {
 };
 
 int run_encode(const LinkOptions& o) {
-  const link::WireVersion wire = parse_wire(o.wire);
+  const link::WireVersion wire = o.wire;
   if (o.session != 0 && wire != link::WireVersion::kV3)
-    throw InputError("--session is for --wire v3: " + o.wire + " carries no session");
+    throw InputError("--session is for --wire v3: " + std::string(link::wire_name(o.wire)) + " carries no session");
   const device::DevicePreset preset = load_preset(o.preset, 0);
   scene::Scene scene = load_scene(o.scene);
   if (isatty(STDOUT_FILENO)) throw InputError("link encode writes binary: redirect standard output to a file");
@@ -59,7 +60,7 @@ int run_encode(const LinkOptions& o) {
   }
   if (std::fflush(stdout) != 0) throw std::runtime_error("writing standard output failed");
   std::cerr << "encoded " << o.worlds << (o.worlds == 1 ? " world of " : " worlds of ") << host.ready().spheres
-            << " spheres as " << bytes << " bytes (" << o.wire;
+            << " spheres as " << bytes << " bytes (" << link::wire_name(o.wire);
   if (wire == link::WireVersion::kV3) std::cerr << ", session " << session;
   if (wire != link::WireVersion::kV1) {
     std::cerr << ", numbered 1";
@@ -111,7 +112,7 @@ void print_word(const link::V1Sphere& s, std::size_t place) {
 // What the device makes of a stream: a device::Receiver of the preset and wire, whose events say world by
 // world what it showed and why it refused the rest, and whose counts are the device's own.
 int run_decode(const LinkOptions& o) {
-  const link::WireVersion wire = parse_wire(o.wire);
+  const link::WireVersion wire = o.wire;
   const device::DevicePreset preset = load_preset(o.preset, 0);
   const std::vector<std::uint8_t> bytes = read_bytes(o.input);
   const std::string source = o.input == "-" ? "<stdin>" : o.input;
@@ -140,9 +141,9 @@ int run_decode(const LinkOptions& o) {
   receiver.end_of_stream();
   const device::ReceiverStats& rx = receiver.stats();
 
-  if (bytes.empty()) std::cerr << source << ": no " << o.wire << " data: the input is empty\n";
+  if (bytes.empty()) std::cerr << source << ": no " << link::wire_name(o.wire) << " data: the input is empty\n";
   if (o.json) {
-    const nlohmann::json doc = {{"wire", o.wire},
+    const nlohmann::json doc = {{"wire", link::wire_name(o.wire)},
                                 {"bytes", bytes.size()},
                                 {"accepted", accepted},
                                 {"rejected", rx.frames_rejected},
@@ -172,12 +173,9 @@ void add_link_command(CLI::App& app, Action& run) {
       "encode",
       "Write the host's encoded worlds of a scene to standard output, one after another, numbered as the link "
       "numbers them; a summary goes to standard error");
-  enc->add_option("--scene", o->scene, "Built-in scene name or JSON scene file")->capture_default_str();
-  enc->add_option("--wire", o->wire,
-                  "v1 (one 8-byte word per sphere, no numbers), v2 (framed worlds numbered 1 to N) or v3 (framed "
-                  "worlds numbered 1 to N in a session)")
-      ->capture_default_str();
-  enc->add_option("--preset", o->preset, "Device preset whose number formats the host rounds to")->capture_default_str();
+  add_scene_option(*enc, o->scene);
+  add_wire_option(*enc, o->wire, "v2 numbers the worlds 1 to N, v3 numbers them 1 to N in a session");
+  add_preset_option(*enc, o->preset, "the host rounds to its number formats");
   enc->add_option("--worlds", o->worlds, "Worlds to write (N), the camera orbiting its target between them")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -198,10 +196,8 @@ void add_link_command(CLI::App& app, Action& run) {
       "they are replays (v3: not newer than the last of their session, or of a session that has ended). Exit 0 "
       "when every byte was in a world the device shows (numbers missing between them do not change that); 2 when anything was rejected, dropped or replayed, or the "
       "input is empty");
-  dec->add_option("--wire", o->wire, "v1, v2 (the earlier framed wire) or v3")->capture_default_str();
-  dec->add_option("--preset", o->preset,
-                  "Device preset: its scene memory limits the sphere count, its number formats the content")
-      ->capture_default_str();
+  add_wire_option(*dec, o->wire);
+  add_preset_option(*dec, o->preset, "its scene memory limits the sphere count, its number formats the content");
   dec->add_option("--in", o->input, "Input file ('-' is standard input)")->capture_default_str();
   dec->add_flag("--json", o->json,
                 "Print one JSON object on stdout instead of the worlds (printed on exit 2 too): accepted (the "

@@ -30,6 +30,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "options.h"
 #include "render.h"
 
 namespace tripsitter::cmd {
@@ -254,7 +255,7 @@ int run_device_alone(const RenderOptions& o) {
   const std::vector<std::uint8_t> bytes = read_bytes(o.link_input);
   const std::unique_ptr<display::VcdFile> vcd = open_vcd(o);
   const device::DevicePreset preset = load_preset(o.preset, o.workers, o.bounces);
-  const link::WireVersion wire = parse_wire(o.wire);
+  const link::WireVersion wire = o.wire;
   const auto make_rtl = device_maker(rtl_choice(o), preset, wire);
   const std::unique_ptr<device::Backend> device =
       make_rtl ? make_rtl() : std::make_unique<device::Device>(preset, wire);
@@ -338,7 +339,7 @@ void check_options(const RenderOptions& o, modes::Mode mode) {
   using modes::Mode;
   if (mode == Mode::kNormal && (o.spp != 0 || o.depth != 0))
     throw InputError("--spp and --depth need --mode path, or --mode hw with --preset path (normal traces one ray per pixel)");
-  const link::WireVersion wire = parse_wire(o.wire);
+  const link::WireVersion wire = o.wire;
   const device::DevicePreset preset =
       load_preset(o.preset, o.workers, o.bounces, mode == Mode::kHw ? o.spp : 0, mode == Mode::kHw ? o.depth : 0);
   const bool traced = mode == Mode::kHw && device::traces_paths(preset, wire);
@@ -393,7 +394,7 @@ modes::SourceConfig source_config(const RenderOptions& o, modes::Mode mode, cons
   c.mode = mode;
   c.preset = load_preset(o.preset, o.workers, o.bounces, mode == modes::Mode::kHw ? o.spp : 0,
                          mode == modes::Mode::kHw ? o.depth : 0);
-  c.wire = parse_wire(o.wire);
+  c.wire = o.wire;
   c.spi = {o.transfer_bytes, o.spi_hz};
   if (mode == modes::Mode::kHw) c.make_device = device_maker(rtl_choice(o), c.preset, c.wire);
   const bool monitor = mode == modes::Mode::kHw;
@@ -483,24 +484,21 @@ std::unique_ptr<display::VideoPipe> open_video(const RenderOptions& o, int width
 void add_render_command(CLI::App& app, Action& run) {
   auto o = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render one frame as the board's monitor shows it, to a PNG file");
-  cmd->add_option("--scene", o->scene,
-                  "Built-in scene name (" + join(scene::builtin_names()) + ", random-N) or JSON scene file")
-      ->capture_default_str();
+  add_scene_option(*cmd, o->scene);
   cmd->add_option("--mode", o->mode,
                   "hw: host -> link -> device -> VGA capture, bit-exact fixed point (640x480 only);\n"
                   "normal: the float reference of the same rays and shading, mirrors included (any size);\n"
                   "path: the float path tracer with materials, bounces, samples and the scene's thin-lens camera,\n"
                   "      written sRGB-encoded")
       ->capture_default_str();
-  cmd->add_option("--preset", o->preset, "Device preset (" + join(device::preset_names()) + ")")->capture_default_str();
+  add_preset_option(*cmd, o->preset);
   cmd->add_option("--workers", o->workers,
                   "Number of device workers (the artix preset's sphere units), 1..640 (default: the preset's)")
       ->check(CLI::Range(1, 640));
   cmd->add_option("--bounces", o->bounces,
                   "Device mirror bounces off metal spheres, 0..6 (default: the preset's); also used by --mode normal")
       ->check(CLI::Range(0, 6));
-  cmd->add_option("--wire", o->wire, "Link protocol: v1 (the board's sphere word; the device shows the last sphere), v2 (framed worlds) or v3 (framed worlds with a header check and sessions)")
-      ->capture_default_str();
+  add_wire_option(*cmd, o->wire, "with v1 the device shows the last sphere");
   cmd->add_option("--width", o->width, "Image width, normal and path modes (default: the scene's render.width; hw is 640)")
       ->check(CLI::Range(1, scene::kMaxImageSide));
   cmd->add_option("--height", o->height, "Image height, normal and path modes (default: the scene's render.height; hw is 480)")

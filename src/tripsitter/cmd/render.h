@@ -22,7 +22,7 @@ struct RenderOptions {
   std::string preset = "wide";
   int workers = 0;
   int bounces = -1;
-  std::string wire = "v3";
+  link::WireVersion wire = link::WireVersion::kV3;
   int width = 0;   // 0: 640 in hw mode, the scene's render.width in normal mode
   int height = 0;
   std::string out = "tripsitter.png";

@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "options.h"
 
 namespace tripsitter::cmd {
 namespace {
@@ -70,10 +71,8 @@ void add_rom_command(CLI::App& app, Action& run) {
       "STANDALONE = 1): the worlds of a camera path around or through a scene, each encoded by the host as a wire v2 "
       "frame for the preset's formats, behind a table of where each starts (src/tripsitter/host/rom_image.h), as a "
       "$readmemh file of one byte a line. The board's buttons step through the worlds");
-  cmd->add_option("--scene", o->scene, "Built-in scene name or JSON scene file")->capture_default_str();
-  cmd->add_option("--preset", o->preset,
-                  "Device preset whose number formats the host rounds to (the board's device is artix)")
-      ->capture_default_str();
+  add_scene_option(*cmd, o->scene);
+  add_preset_option(*cmd, o->preset, "the host rounds to its number formats (the board's device is artix)");
   cmd->add_option("--worlds", o->worlds, "Worlds on the path (N); the first is the scene's own view")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));

@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "options.h"
 #include "device_choice.h"
 
 namespace tripsitter::cmd {
@@ -19,7 +20,7 @@ struct RunCommandOptions {
   std::string mode = "hw";
   std::string preset = "wide";
   int workers = 0;
-  std::string wire = "v3";
+  link::WireVersion wire = link::WireVersion::kV3;
   int scale = 1;
   std::string screenshot_dir = ".";
   std::uint64_t seed = 1;
@@ -36,7 +37,7 @@ struct RunCommandOptions {
 int run_run(const RunCommandOptions& o) {
   frontend::AppConfig c;
   c.mode = parse_mode(o.mode);
-  c.wire = parse_wire(o.wire);
+  c.wire = o.wire;
   const bool hw = c.mode == modes::Mode::kHw;
   if (c.mode == modes::Mode::kNormal && (o.spp != 0 || o.depth != 0))
     throw InputError("--spp and --depth need --mode hw with --preset path, or --mode path (normal traces one ray per pixel)");
@@ -76,16 +77,13 @@ void add_run_command(CLI::App& app, Action& run) {
       "saturations, and with --preset path the samples per pixel accumulated and the device's workers; in path mode\n"
       "samples per pixel and whether the denoiser is on. Path mode keeps earlier frames while the camera moves\n"
       "(reprojected through the depth buffer) and filters the picture (docs/denoiser.md).");
-  cmd->add_option("--scene", o->scene, "Built-in scene name or JSON scene file")->capture_default_str();
+  add_scene_option(*cmd, o->scene);
   cmd->add_option("--mode", o->mode,
                   "hw: every camera change goes host -> link -> device -> VGA capture (with --preset path the\n"
                   "device accumulates samples while the camera is still); normal: the float reference;\n"
                   "path: the float path tracer, refining while the camera is still")
       ->capture_default_str();
-  cmd->add_option("--preset", o->preset,
-                  "Device preset (hw): " + join(device::preset_names()) +
-                      "; path path-traces, and accumulates in frame memory while the camera is still")
-      ->capture_default_str();
+  add_preset_option(*cmd, o->preset, "hw; path path-traces, and accumulates in frame memory while the camera is still");
   cmd->add_option("--spp", o->spp,
                   "--mode hw --preset path: samples per pixel the device adds each frame, 1..255 (default 1; a pixel "
                   "stops at 255)")
@@ -97,7 +95,7 @@ void add_run_command(CLI::App& app, Action& run) {
   cmd->add_option("--workers", o->workers,
                   "Number of device workers (the artix preset's sphere units; default: the preset's)")
       ->check(CLI::Range(1, 640));
-  cmd->add_option("--wire", o->wire, "Link protocol, v1, v2 or v3")->capture_default_str();
+  add_wire_option(*cmd, o->wire);
   add_device_option(*cmd, o->device);
   cmd->add_option("--scale", o->scale, "Window size as a multiple of 640x480")->capture_default_str()->check(CLI::Range(1, 8));
   cmd->add_option("--screenshot-dir", o->screenshot_dir, "Where F12 writes tripsitter-N.png")->capture_default_str();

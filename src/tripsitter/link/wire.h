@@ -20,6 +20,15 @@ inline std::optional<WireVersion> wire_by_name(std::string_view name) {
   return std::nullopt;
 }
 
+inline constexpr std::string_view wire_name(WireVersion wire) {
+  switch (wire) {
+    case WireVersion::kV1: return "v1";
+    case WireVersion::kV2: return "v2";
+    case WireVersion::kV3: return "v3";
+  }
+  return "v3";
+}
+
 // The formats the device's scene memory holds; the host rounds and saturates to them before encoding.
 struct SceneFormats {
   core::FixedFormat x, y, z, radius;
