@@ -15,7 +15,7 @@ fi
 export ASAN_OPTIONS=detect_leaks=0   # a sanitizer build of the command is fine here
 
 out=fuzz/corpus
-mkdir -p "$out"/{wire_v1,wire_v2,wire_v3,receiver,scene_json,key_script}
+mkdir -p "$out"/{wire_v1,wire_v2,wire_v3,receiver,receiver_pins,scene_json,key_script}
 # Inputs found by fuzzing and merged in (fuzz/README.md) are named by their SHA-1 and stay; the named seeds
 # are made again.
 find "$out" -regextype posix-extended -type f ! -regex '.*/[0-9a-f]{40}' -delete
@@ -108,6 +108,59 @@ receiver_seed v3-host-restarts-mid-world 20 "0a" "$out/wire_v3/stream-host-resta
 receiver_seed v1-cluster-board 03 "88" "$tmp/cluster-board-2023.v1"
 receiver_seed v1-three-wide 01 "0583" "$tmp/three_materials-wide.v1"
 receiver_seed v1-demo-board 03 "" "$tmp/demo-board-2023.v1"
+
+# receiver_pins: the receiver's layout with a timing schedule between the transfer bytes and the link bytes (a count
+# byte, then 2-byte records: receiver_pins_fuzz.cpp), the link bytes cut to the target's 512. Made from the other
+# link targets' corpora: every receiver input (its merged ones too) as it is, with no records (the default timing:
+# SCLK at clk/6, legal); the named receiver seeds again, in transfers of 7 units with a vertical blanking after
+# every other one, with a mix of legal timings (slow SCLK with long gaps; MOSI one clock before the rising edge; a
+# byte cut after 3 bits; SCLK pulses while chip select is high; an end of stream a quarter into a transfer) and with
+# a mix of illegal ones among legal ones (configuration bit 6: half periods of 1 and 2 clocks, MOSI changing in the
+# clock of the rising edge with the bit or with the next bit, chip select falling late, rising early, a 1- or 2-clock
+# gap, and an end of stream in a transfer at 2 clocks a half period); and the named wire_v1,
+# wire_v2 and wire_v3 seeds as the link bytes of v1, v2 and v3 (wide) in one transfer.
+# pins_seed NAME CONFIG_BITS TRANSFERS RECORDS FILE: FILE in the receiver's layout, its configuration ORed with
+# CONFIG_BITS, its transfer bytes replaced by TRANSFERS unless that is "-".
+pins_seed() {
+  local name=$1 bits=$2 transfers=$3 records=$4 f=$5
+  local size config count
+  size=$(stat -c %s "$f")
+  ((size >= 2)) || return 0
+  config=$(xxd -p -l 1 "$f")
+  count=$(( 0x$(xxd -p -s 1 -l 1 "$f") % 16 ))
+  ((count <= size - 2)) || count=$((size - 2))
+  {
+    bytes "$(printf '%02x' $(( 0x$config | 0x$bits )))"
+    if [ "$transfers" = - ]; then
+      head -c $((2 + count)) "$f" | tail -c +2
+    else
+      bytes "$(printf '%02x' $(( ${#transfers} / 2 )))" "$transfers"
+    fi
+    bytes "$(printf '%02x' $(( ${#records} / 4 )))" "$records"
+    head -c $((2 + count + 512)) "$f" | tail -c +$((3 + count))
+  } > "$out/receiver_pins/$name"
+}
+legal_mix=37405a20000312601280
+illegal_mix=1200000012080900d200121092001218120009000980
+for f in "$out"/receiver/*; do pins_seed "receiver-$(basename "$f")" 00 - "" "$f"; done
+for f in "$out"/receiver/*; do
+  name=$(basename "$f")
+  [[ $name =~ ^[0-9a-f]{40}$ ]] && continue
+  pins_seed "legal-mix-$name" 00 0787 "$legal_mix" "$f"
+  pins_seed "illegal-mix-$name" 40 0787 "$illegal_mix" "$f"
+done
+for wire in v1 v2 v3; do
+  for f in "$out"/wire_$wire/*; do
+    name=$(basename "$f")
+    [[ $name =~ ^[0-9a-f]{40}$ ]] && continue
+    case $wire in
+      v1) { bytes 0100; tail -c +2 "$f"; } > "$tmp/pins" ;;  # without wire_v1's control byte
+      v2) { bytes 0000; cat "$f"; } > "$tmp/pins" ;;
+      v3) { bytes 2000; cat "$f"; } > "$tmp/pins" ;;
+    esac
+    pins_seed "wire_$wire-$name" 00 - "" "$tmp/pins"
+  done
+done
 
 # scene_json: the repository's scenes and small variants of the format.
 cp scenes/*.json "$out/scene_json/"

@@ -26,8 +26,9 @@ packages=(g++ cmake make pkg-config libpng-dev nlohmann-json3-dev libcli11-dev l
           libopenmpi-dev openmpi-bin  # optional: render --mode path under mpirun
           verilator yosys             # optional: the device's RTL (rtl/), simulated and synthesised
 )
-# the libFuzzer targets (scripts/fuzz.sh); the headless browser that looks at explore's report, in every test job
-[ "$job" = test ] && packages+=(clang-14 libclang-rt-14-dev)
+# the libFuzzer targets (scripts/fuzz.sh) and the SMT solver of the RTL's proofs (scripts/prove.sh); the headless
+# browser that looks at explore's report, in every test job
+[ "$job" = test ] && packages+=(clang-14 libclang-rt-14-dev z3)
 [ "$job" != demo ] && packages+=(chromium)
 missing=()
 for p in "${packages[@]}"; do
@@ -64,7 +65,8 @@ else
   build check-fixed
   ./build/check-fixed/src/tripsitter/device/device_test --gtest_brief=1
   # Every fuzz target: its saved regressions, then 50,000 executions from its seed corpus (which replays
-  # every seed first): 1 min 20 s to 2 min 16 s here with the build, on 2 cores shared with other work. Why it cannot make CI flaky:
+  # every seed first; receiver_pins, which simulates the receiver's RTL clock by clock, 5,000; fuzz/README.md has
+  # the times). Why it cannot make CI flaky:
   # - the saved regressions and the seeds are replayed as they are, every time;
   # - the search is bounded by executions, not time, with a fixed seed and a fresh working corpus, so a
   #   slow or busy machine runs the same mutations as a fast one and nothing carries over from an

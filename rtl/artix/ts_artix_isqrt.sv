@@ -80,4 +80,62 @@ module ts_artix_isqrt #(
   assign out_valid = valid_q[Steps-1];
   assign out_root  = root_q[(Steps-1)*Steps+:Steps];
   assign out_tag   = tag_q[(Steps-1)*TAG_W+:TAG_W];
+`ifdef FORMAL
+  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proofs artix_isqrt, artix_isqrt_34). The
+  // contract: out_root = floor(sqrt(x)) for every x, that is r^2 <= x < (r + 1)^2. Proven stage by stage: after
+  // step k the stage holds the floor root r of x's top 2k bits and their remainder, top - r^2, which the next step
+  // keeps. A property over the stages is one assertion on a vector of them (bit k - 1: after step k); a
+  // counterexample's VCD shows which bit fell.
+  logic past_valid = 1'b0;
+  always_ff @(posedge clk) past_valid <= 1'b1;
+  initial assume (rst);
+
+  localparam int FW = WIDTH + 2;  // (r + 1)^2 < 2^(WIDTH + 1)
+  logic [Steps*WIDTH-1:0] f_x_q;   // each stage's x, carried beside it: after step k at [(k - 1) WIDTH +: WIDTH]
+  logic [Steps-1:0]       f_root_bits, f_floor;
+  logic [Steps-2:0]       f_remainder, f_rest;
+  for (genvar k = 0; k < Steps; k++) begin : g_f_step
+    logic [WIDTH-1:0] x;
+    logic [FW-1:0]    top, r, sq;
+    always_ff @(posedge clk) f_x_q[k*WIDTH+:WIDTH] <= k == 0 ? in_value : f_x_q[(k-1)*WIDTH+:WIDTH];
+    assign x   = f_x_q[k*WIDTH+:WIDTH];
+    assign top = FW'(x) >> (WIDTH - 2 * (k + 1));  // the bits of x taken so far
+    assign r   = FW'(root_q[k*Steps+:Steps]);
+    assign sq  = r * r;
+    assign f_root_bits[k] = !valid_q[k] || r >> (k + 1) == '0;
+    assign f_floor[k]     = !valid_q[k] || sq <= top && top < sq + (r << 1) + FW'(1);
+    if (k + 1 < Steps) begin : g_inner
+      assign f_remainder[k] = !valid_q[k] || FW'(rem_q[k*Steps+:Steps]) == top - sq;
+      assign f_rest[k]      = !valid_q[k] || rest_q[k*WIDTH+:WIDTH] == x << 2 * (k + 1);
+    end
+  end
+
+  // Above 24 bits z3 cannot bit-blast the squares for every input within the proofs' budget (WIDTH = 24 takes
+  // 30 s, and each 4 more bits about four times that): the inputs are then those within 2^FWin of either end of
+  // the range, where the root's and the remainder's widths are tested hardest (the remainder reaches 2 r with r
+  // at its largest). Every input of the same logic at WIDTH = 16 is proven by the proof artix_isqrt.
+  localparam int FWin = 12;
+  if (WIDTH > 24) begin : g_window
+    always_comb begin
+      assume (in_value < WIDTH'(1) << FWin || in_value > ~(WIDTH'(1) << FWin));
+    end
+    for (genvar k = 0; k < Steps; k++) begin : g_carried
+      always_comb assume (f_x_q[k*WIDTH+:WIDTH] < WIDTH'(1) << FWin || f_x_q[k*WIDTH+:WIDTH] > ~(WIDTH'(1) << FWin));
+    end
+  end
+
+  always_comb begin
+    if (past_valid) begin
+      // After step k the root has k bits: rules out a root bit shifted in at the wrong place.
+      p_root_bits: assert (&f_root_bits);
+      // The remainder is top - r^2 (top: x's first 2k bits), and x's bits still to come are at the top of rest:
+      // rules out a wrong trial, a flipped or off-by-one comparison, a bit pair taken from the wrong place, a
+      // remainder bit lost to a narrow register.
+      p_remainder: assert (&f_remainder);
+      p_rest: assert (&f_rest);
+      // r^2 <= top < (r + 1)^2 after each step; after the last, top is x: the contract, for every x.
+      p_floor_root: assert (&f_floor);
+    end
+  end
+`endif
 endmodule

@@ -217,7 +217,7 @@ module ts_artix_shade_reflect #(
   // Per channel: channels 1 and 2 held from cycle K (a register's enable, no multiplexer), then one three-way
   // multiplexer a bit for the slot.
   localparam int ChanW = OriginW + DirW + FzW + TintW + 8;
-  logic [ChanW-1:0] in_chan [Channels];
+  (* mem2reg *) logic [ChanW-1:0] in_chan [Channels];
   for (genvar k = 0; k < Channels; k++) begin : g_in_chan
     assign in_chan[k] = {in_o[k*OriginW+:OriginW], in_d[k*DirW+:DirW], in_f[k*FW+:FzW], in_tint[k*TintW+:TintW],
                          in_albedo[k*8+:8]};
@@ -243,7 +243,7 @@ module ts_artix_shade_reflect #(
 
   // ---- the slots' valid and channel, stage by stage -----------------------------------------------------------
   logic [Stages-1:0] v_q;
-  logic [1:0]        ch_q [Stages];
+  (* mem2reg *) logic [1:0]        ch_q [Stages];
   always_ff @(posedge clk) begin
     if (rst) v_q <= '0;
     else v_q <= Stages'({v_q, slot_valid});
@@ -466,7 +466,7 @@ module ts_artix_shade_reflect #(
   assign d_out = saturate(32'($signed(p5_shifted[DoutW-1:0])));
 
   // ---- the tint's product T_k a_k (stages 1, 2), in LUTs: a sum of shifted copies of T_k ----------------------
-  logic [TintW-1:0] pair1_q [4];
+  (* mem2reg *) logic [TintW-1:0] pair1_q [4];
   logic [TintW-1:0] tint2_q;
   always_ff @(posedge clk) begin
     for (int i = 0; i < 4; i++) begin

@@ -90,12 +90,12 @@ module ts_artix_sphere_unit
 
   // Slot flags: valid (any of the three) resets; the rest are data.
   logic [14:0] v_q;  // stage k's slot is valid
-  logic [2:0]  flags_q [15];  // {first, pair, end}
+  (* mem2reg *) logic [2:0]  flags_q [15];  // {first, pair, end}
 
   // ---- 0: the ports ------------------------------------------------------------------------------------------
-  logic signed [OriginW-1:0] o0_q [3];
-  logic signed [DirW-1:0]    d0_q [3];
-  logic signed [CoordW-1:0]  c0_q [3];
+  (* mem2reg *) logic signed [OriginW-1:0] o0_q [3];
+  (* mem2reg *) logic signed [DirW-1:0]    d0_q [3];
+  (* mem2reg *) logic signed [CoordW-1:0]  c0_q [3];
   logic signed [ExpW-1:0]    e0_q;
   logic [R2sW-1:0]           r2s0_q;
   logic [CARRY_W-1:0]        carry0_q;
@@ -123,14 +123,14 @@ module ts_artix_sphere_unit
   end
 
   // ---- 1: oc = c - o (the pre-adder's work) ------------------------------------------------------------------
-  logic signed [OcW-1:0] oc1_q [3];
+  (* mem2reg *) logic signed [OcW-1:0] oc1_q [3];
   always_ff @(posedge clk) begin
     for (int k = 0; k < 3; k++) oc1_q[k] <= OcW'(c0_q[k]) - OcW'(o0_q[k]);
   end
 
   // The direction, the sphere's scale and its r^2 ride alongside until they are used (a name's number is the
   // stage whose slot it holds).
-  logic signed [DirW-1:0] d1 [3], d5 [3];
+  (* mem2reg *) logic signed [DirW-1:0] d1 [3], d5 [3];
   logic signed [ExpW-1:0] e7, e31;
   logic [R2sW-1:0]        r2s13;
   for (genvar k = 0; k < 3; k++) begin : g_dir
@@ -141,7 +141,7 @@ module ts_artix_sphere_unit
   ts_artix_delay #(.W(R2sW), .N(13)) r2s_delay (.clk, .in(r2s0_q), .out(r2s13));
 
   // ---- 2..4: b d = oc . d ------------------------------------------------------------------------------------
-  logic signed [ProdW-1:0] m2_q [3];
+  (* mem2reg *) logic signed [ProdW-1:0] m2_q [3];
   logic signed [BdW-1:0]   sum3_q, m3_q, bd4_q;
   always_ff @(posedge clk) begin
     for (int k = 0; k < 3; k++) m2_q[k] <= oc1_q[k] * d1[k];
@@ -151,7 +151,7 @@ module ts_artix_sphere_unit
   end
 
   // oc waits for f's post-adder.
-  logic signed [OcW-1:0] oc6 [3];
+  (* mem2reg *) logic signed [OcW-1:0] oc6 [3];
   for (genvar k = 0; k < 3; k++) begin : g_oc
     ts_artix_delay #(.W(OcW), .N(5)) oc_delay (.clk, .in(oc1_q[k]), .out(oc6[k]));
   end
@@ -167,8 +167,8 @@ module ts_artix_sphere_unit
   end
 
   // ---- 6, 7: f = (oc << 17) - b d ----------------------------------------------------------------------------
-  logic signed [ProdW-1:0] p6_q [3];
-  logic signed [FW-1:0]    f7_q [3];
+  (* mem2reg *) logic signed [ProdW-1:0] p6_q [3];
+  (* mem2reg *) logic signed [FW-1:0]    f7_q [3];
   logic [ShiftW-1:0]       shift7;
   always_ff @(posedge clk) begin
     for (int k = 0; k < 3; k++) p6_q[k] <= b5_q * d5[k];
@@ -177,7 +177,7 @@ module ts_artix_sphere_unit
   assign shift7 = ShiftW'(DirFrac + 32'(e7));
 
   // ---- 8, 9: F = f >> (17 + e) -------------------------------------------------------------------------------
-  logic signed [FW-1:0] coarse8_q [3], fine9_q [3];
+  (* mem2reg *) logic signed [FW-1:0] coarse8_q [3], fine9_q [3];
   logic [1:0]           fine_shift8_q;
   always_ff @(posedge clk) begin
     for (int k = 0; k < 3; k++) coarse8_q[k] <= f7_q[k] >>> {shift7[ShiftW-1:2], 2'b00};
@@ -189,7 +189,7 @@ module ts_artix_sphere_unit
   // The model calls F_k beyond r outside +-(2^17 - 1), a miss. Here F_k is beyond when it does not fit 18 bits
   // signed (the bits above are not all its sign); the one value the model adds, -2^17, squares to 2^34 > r2s and
   // so misses through D < 0 just the same.
-  logic signed [ScaledW-1:0] scaled10_q [3];
+  (* mem2reg *) logic signed [ScaledW-1:0] scaled10_q [3];
   logic                      beyond10_q;
   logic [2:0]                beyond9;
   for (genvar k = 0; k < 3; k++) begin : g_beyond
@@ -201,7 +201,7 @@ module ts_artix_sphere_unit
   end
 
   // ---- 11..13: F.F -------------------------------------------------------------------------------------------
-  logic signed [SqW-1:0] q11_q [3];
+  (* mem2reg *) logic signed [SqW-1:0] q11_q [3];
   logic [FfW-1:0]        sum12_q, q12_q, ff13_q;
   logic [12:11]          beyond_q;
   always_ff @(posedge clk) begin

@@ -227,15 +227,15 @@ module ts_artix_tiles #(
   end
 
   // ---- the lists: per pair of read ports, both banks -----------------------------------------------------------
-  logic [SphereAW-1:0] rd_entry [NREAD];
+  (* mem2reg *) logic [SphereAW-1:0] rd_entry [NREAD];
   for (genvar g = 0; g < Replicas; g++) begin : g_replica
     localparam int PortA = 2 * g;
     localparam int PortB = 2 * g + 1 < NREAD ? 2 * g + 1 : 2 * g;  // the last replica of an odd NREAD: A only
     wire [EntryAW-1:0] raddr_a = {rd_tile[PortA*TileW+:TileW], rd_pos[PortA*SphereAW+:SphereAW]};
     wire [EntryAW-1:0] raddr_b = {rd_tile[PortB*TileW+:TileW], rd_pos[PortB*SphereAW+:SphereAW]};
-    logic [SphereAW-1:0] qa [2];
+    (* mem2reg *) logic [SphereAW-1:0] qa [2];
     /* verilator lint_off UNUSEDSIGNAL */
-    logic [SphereAW-1:0] qb [2];  // unused in the last replica when NREAD is odd
+    (* mem2reg *) logic [SphereAW-1:0] qb [2];  // unused in the last replica when NREAD is odd
     /* verilator lint_on UNUSEDSIGNAL */
     for (genvar b = 0; b < 2; b++) begin : g_bank
       logic [SphereAW-1:0] mem [Entries];

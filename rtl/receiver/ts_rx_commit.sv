@@ -198,4 +198,173 @@ module ts_rx_commit #(
 
   assign idle = source_idle && !rep_valid && !word_valid && !partial_valid && !intact && !seq_done && !sm_begin &&
                 !admit_drop && !admit_copy && !v1_write_q && !copy_done;
+`ifdef FORMAL
+  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proof rx_commit_v3). The inputs (the decoders'
+  // outputs) are free; the properties hold while they have kept the contract below (f_src_ok_now: so far, this clock included), which ts_rx_frame
+  // and ts_rx_sequence guarantee (their p_* properties named with each clause). Only the reset is assumed.
+  logic past_valid = 1'b0;
+  always_ff @(posedge clk) past_valid <= 1'b1;
+  initial assume (rst);
+
+  // ---- The contract of the framed wires' decoders (ts_rx_frame, ts_rx_sequence) ----
+  // One frame at a time: `intact`, then the verdict (seq_done) two clocks later (ts_rx_sequence's
+  // p_done_after_check), then, if admitted for copy, its records with rec_copy and copy_done after exactly
+  // hdr_count of them (ts_rx_frame's p_copy_*); no report in the clock of a verdict; the frame's header and content
+  // flags held from intact until the frame is done with, and its count within the capacity (p_waits_held,
+  // p_count_within); no record of the check pass (rec_copy low) while a frame waits or is copied; no header
+  // passed (in_body) in the clock after a reset.
+  logic f_src_ok, f_rst_q;
+  logic [1:0] f_wait;     // clocks since intact while the verdict is pending (1, 2), 0: none pending
+  logic f_copy;           // admitted for copy: records and copy_done may come
+  logic [AW+1:0] f_copied;  // records copied so far
+  logic [AW:0] f_count;
+  logic [31:0] f_sequence, f_frame_bytes;
+  logic [7:0] f_frac;
+  logic f_bad_sphere;
+  wire f_busy = f_wait != 2'd0 || f_copy;
+  wire f_rec_copy = rec_valid && rec_copy;
+  wire f_src_ok_now = f_src_ok && (V1 || !(
+      (intact && (f_busy || admit_copy)) ||
+      (seq_done != (f_wait == 2'd2)) ||
+      (f_rec_copy && (!f_copy || f_copied >= (AW + 2)'(hdr_count))) ||
+      (copy_done && (!f_copy || f_copied != (AW + 2)'(hdr_count))) ||
+      (rec_valid && !rec_copy && f_busy) ||
+      (rep_valid && seq_done) ||
+      (intact && hdr_count > (AW + 1)'(MaxSpheres)) ||
+      (f_rst_q && in_body) ||  // the decoder's header state is reset with it
+      (f_busy && (hdr_count != f_count || hdr_sequence != f_sequence || frame_bytes != f_frame_bytes ||
+                  hdr_frac != f_frac || bad_sphere != f_bad_sphere || !in_body))));
+  always_ff @(posedge clk) begin
+    f_rst_q <= rst;
+    if (rst) begin
+      f_src_ok <= 1'b1;
+      f_wait <= '0;
+      f_copy <= 1'b0;
+    end else begin
+      f_src_ok <= f_src_ok_now;
+      if (intact) f_wait <= 2'd1;
+      else if (f_wait == 2'd2) f_wait <= 2'd0;
+      else if (f_wait != 2'd0) f_wait <= f_wait + 2'd1;
+      if (admit_copy) f_copy <= 1'b1;
+      else if (copy_done) f_copy <= 1'b0;
+    end
+    if (admit_copy) f_copied <= '0;
+    else if (f_rec_copy) f_copied <= f_copied + 1'b1;
+    if (intact) begin
+      f_count <= hdr_count;
+      f_sequence <= hdr_sequence;
+      f_frame_bytes <= frame_bytes;
+      f_frac <= hdr_frac;
+      f_bad_sphere <= bad_sphere;
+    end
+  end
+
+  // ---- The specification of accept_frame's content check: the frame's fractional bits are the preset's, no record
+  // has a bad sphere, and every record of the check pass fits the preset's formats (x, y, z signed in XW, YW, ZW
+  // bits: the bits above the format all copies of its sign bit; the radius unsigned in RW bits) ----
+  function automatic logic f_fits_signed(input logic [31:0] v, input int w);
+    f_fits_signed = (v >> (w - 1)) == 32'd0 || (~v >> (w - 1)) == 32'd0;
+  endfunction
+  wire f_rec_fits = f_fits_signed(rec_x, XW) && f_fits_signed(rec_y, YW) && f_fits_signed(rec_z, ZW)
+                    && (rec_r >> RW) == 32'd0;
+  logic f_outside;  // a record of this frame's check pass does not fit
+  always_ff @(posedge clk) begin
+    if (!in_body) f_outside <= 1'b0;
+    else if (rec_valid && !rec_copy && !f_rec_fits) f_outside <= 1'b1;
+  end
+  wire f_accept = !seq_replay && !bad_sphere && !f_outside && hdr_frac == 8'(Frac);
+
+  // ---- Scene memory's side: the world open (begin_write seen, commit not yet) and its writes so far ----
+  logic f_open;
+  logic [AW+1:0] f_writes;
+  always_ff @(posedge clk) begin
+    if (rst) f_open <= 1'b0;
+    else if (sm_begin) f_open <= 1'b1;
+    else if (sm_commit) f_open <= 1'b0;
+    if (sm_begin) f_writes <= '0;
+    else if (sm_we) f_writes <= f_writes + 1'b1;
+  end
+
+  always_comb begin
+    if (past_valid && !V1 && f_src_ok_now) begin
+      // Invariants that make the induction close (each a property): the admission, the scene memory write and the
+      // content check are in step with the frame's phase.
+      p_phase: assert (!(f_wait != 2'd0 && f_copy) && (f_wait != 2'd1 || !(admit_copy || admit_drop))
+                       && sm_begin == admit_copy && f_copy == f_open && (!f_copy || f_copied == f_writes)
+                       && (!(admit_copy || admit_drop) || (f_wait == 2'd0 && !f_copy))
+                       && (!f_busy || f_count <= (AW + 1)'(MaxSpheres)));
+      p_outside_tracks: assert (!in_body || outside_any_q == f_outside);
+    end
+    if (past_valid && f_src_ok_now) begin
+      // Scene memory's write protocol (ts_scene_memory's f_proto_ok): begin_write when no world is open, writes and
+      // the commit only while one is open, from the clock after its begin_write. Rules out a write into a world
+      // already committed (waiting for the swap) or a commit of a world never begun.
+      p_sm_protocol: assert (!(sm_begin && (f_open || sm_commit)) && !((sm_we || sm_commit) && !f_open));
+      // Scene memory is never written beyond its capacity, nor twice at one place in a world: each write's
+      // address is the number of writes since begin_write, below the world's count, itself at most MaxSpheres.
+      // Rules out an address that wraps (sphere MaxSpheres over sphere 0) or a count the header check let by.
+      if (sm_we) p_write_in_capacity: assert (sm_waddr == f_writes[AW-1:0] && f_writes < (AW + 2)'(sm_count)
+                                              && sm_count <= (AW + 1)'(MaxSpheres));
+      if (f_open) p_waddr_counts: assert (sm_waddr == f_writes[AW-1:0]);
+      // A commit is of a whole world: as many writes as its count. Rules out a world shown with spheres missing.
+      if (sm_commit) p_commit_whole: assert (f_writes + (AW + 2)'(sm_we) == (AW + 2)'(sm_count));
+    end
+  end
+
+  // What the clock after this one must show (each counter grown by this clock's event; the verdict's answer), when
+  // this clock keeps the contract and has no reset.
+  logic f_next_checked;
+  logic f_exp_admit_copy, f_exp_admit_drop;
+  logic [CntW-1:0] f_exp_received, f_exp_overflow, f_exp_replaced, f_exp_accepted, f_exp_garbage, f_exp_replayed;
+  logic [CntW-1:0] f_exp_rejected, f_exp_dropped, f_exp_missing, f_exp_sessions;
+  wire f_verdict_drop = seq_done && !f_accept;
+  always_ff @(posedge clk) begin
+    f_next_checked <= !rst && f_src_ok_now;
+    f_exp_admit_copy <= seq_done && f_accept;
+    f_exp_admit_drop <= f_verdict_drop;
+    f_exp_received <= bytes_received + CntW'(byte_valid && !byte_full);
+    f_exp_overflow <= overflow_bytes + CntW'(byte_valid && byte_full);
+    f_exp_replaced <= worlds_replaced + CntW'(sm_replaced);
+    f_exp_accepted <= worlds_accepted + CntW'(sm_commit);
+    f_exp_garbage <= garbage_runs + CntW'(rep_valid && rep_garbage);
+    f_exp_replayed <= worlds_replayed + CntW'(seq_done && seq_replay);
+    f_exp_rejected <= frames_rejected + CntW'((rep_valid && !rep_garbage) || (f_verdict_drop && !seq_replay));
+    f_exp_dropped <= bytes_dropped + (rep_valid ? rep_bytes : f_verdict_drop ? CntW'(frame_bytes) : CntW'(0));
+    f_exp_missing <= worlds_missing + ((seq_done && !seq_replay) ? CntW'(seq_missing) : CntW'(0));
+    f_exp_sessions <= sessions + CntW'(seq_done && !seq_replay && seq_new);
+  end
+
+  always_comb begin
+    if (past_valid && f_next_checked) begin
+      // The verdict: a frame is copied to scene memory (admit_copy, begin_write) only when the sequence rules show
+      // it and its content fits the device (fractional bits, no bad sphere, every record in the preset's formats);
+      // any other verdict drops it. A link of the chain "a frame that fails its CRC or its header check leaves both
+      // copies of scene memory unchanged": scene memory is written only between begin_write and commit
+      // (p_sm_protocol here, ts_scene_memory's p_mem_words and p_read_front), begin_write only on an accepted
+      // verdict (here), a verdict only two clocks after `intact` (ts_rx_sequence's p_done_after_check), and
+      // `intact` only for a frame whose header checks and CRC passed (ts_rx_frame's p_intact_*). Rules out a
+      // replay, or a world outside the formats, reaching the back copy.
+      if (!V1) begin
+        p_admit_accepted: assert (admit_copy == f_exp_admit_copy && admit_drop == f_exp_admit_drop
+                                  && sm_begin == f_exp_admit_copy);
+      end
+      // Every counter only grows, by exactly what the clock's one event adds (1, or a report's or a frame's bytes):
+      // never otherwise, never backwards (docs/link_format.md, "What the receiver counts"). With CntW bits that is
+      // growth until 2^CntW; the receiver's 64-bit counters would need more than 2^32 clocks of the largest step
+      // (a frame's 32-bit size) to wrap. Rules out an event counted twice, in the wrong counter, or not at all.
+      p_bytes_received_grows: assert (bytes_received == f_exp_received);
+      p_overflow_bytes_grows: assert (overflow_bytes == f_exp_overflow);
+      p_worlds_replaced_grows: assert (worlds_replaced == f_exp_replaced);
+      p_worlds_accepted_grows: assert (worlds_accepted == f_exp_accepted);
+      if (!V1) begin
+        p_garbage_runs_grows: assert (garbage_runs == f_exp_garbage);
+        p_worlds_replayed_grows: assert (worlds_replayed == f_exp_replayed);
+        p_frames_rejected_grows: assert (frames_rejected == f_exp_rejected);
+        p_bytes_dropped_grows: assert (bytes_dropped == f_exp_dropped);
+        p_worlds_missing_grows: assert (worlds_missing == f_exp_missing);
+        p_sessions_grows: assert (sessions == f_exp_sessions);
+      end
+    end
+  end
+`endif
 endmodule

@@ -120,12 +120,12 @@ module ts_scene_memory #(
   wire [SW-1:0] wdata = {walbedo, wmetal, wr, wz, wy, wx};
 
   // rd_word[p]: port p's data, a word of the front copy.
-  logic [SW-1:0] rd_word[NREAD];
+  (* mem2reg *) logic [SW-1:0] rd_word[NREAD];
 
   for (genvar g = 0; g < REPLICAS; g++) begin : g_replica
-    logic [SW-1:0] qa[2];
+    (* mem2reg *) logic [SW-1:0] qa[2];
     /* verilator lint_off UNUSEDSIGNAL */
-    logic [SW-1:0] qb[2];  // unused in the last replica when NREAD is odd
+    (* mem2reg *) logic [SW-1:0] qb[2];  // unused in the last replica when NREAD is odd
     /* verilator lint_on UNUSEDSIGNAL */
     for (genvar b = 0; b < 2; b++) begin : g_bank
       logic [SW-1:0] mem[DEPTH];
@@ -157,4 +157,148 @@ module ts_scene_memory #(
     assign rd_metal[p] = rd_word[p][X_W+Y_W+Z_W+R_W];
     assign rd_albedo[p*24+:24] = rd_word[p][X_W+Y_W+Z_W+R_W+1+:24];
   end
+`ifdef FORMAL
+  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proof scene_memory). Every input is free. The
+  // properties that need the receiver to keep the write protocol hold while it has kept it (f_proto_ok, below),
+  // which ts_rx_commit guarantees (its p_sm_*); nothing is assumed but the reset at the start.
+  logic past_valid = 1'b0;
+  always_ff @(posedge clk) past_valid <= 1'b1;
+  initial assume (rst);
+
+  // The write protocol: begin_write opens a world when none is open, writes and the commit come only while one is
+  // open (from the clock after its begin_write), and the commit closes it. f_proto_ok falls for good at a breach.
+  // f_back_complete / f_front_complete: the back / front copy holds a whole world, committed after its last
+  // begin_write and not written since. f_unshown: an accepted world (begun, or committed) no swap has shown yet.
+  // (One bit per role rather than per bank: z3 4.8 is far slower on the variable-index form.)
+  // f_waiting: a committed world waits for the swap (not shown, not overwritten); f_swap: the specification's swap,
+  // in a clock of vertical blanking while a world waits. (The bank bits follow the block's own swap, front_sel's.)
+  logic f_open, f_proto_ok, f_back_complete, f_front_complete, f_unshown, f_waiting;
+  wire f_swap = vblank_swap && f_waiting;
+  always_ff @(posedge clk) begin
+    if (rst) begin
+      f_open <= 1'b0;
+      f_proto_ok <= 1'b1;
+      f_back_complete <= 1'b0;
+      f_front_complete <= 1'b0;
+      f_unshown <= 1'b0;
+      f_waiting <= 1'b0;
+    end else begin
+      if ((begin_write && (f_open || commit)) || ((we || commit) && !f_open)) f_proto_ok <= 1'b0;
+      if (begin_write) f_open <= 1'b1;
+      else if (commit) f_open <= 1'b0;
+      if (swap) f_front_complete <= f_back_complete;
+      if (commit) f_back_complete <= 1'b1;
+      else if (begin_write || (we && !swap)) f_back_complete <= 1'b0;
+      else if (swap) f_back_complete <= f_front_complete;
+      if (begin_write || commit) f_unshown <= 1'b1;
+      else if (f_swap) f_unshown <= 1'b0;
+      if (commit) f_waiting <= 1'b1;
+      else if (begin_write || vblank_swap) f_waiting <= 1'b0;
+    end
+  end
+
+  // The first word and the last of both banks (all of them in the proof's instance; a ghost copy per address, as
+  // z3 4.8 is erratic, seconds to minutes, with a solver-chosen (* anyconst *) address into the memories): the word
+  // last written into the bank while it was the back copy (f_known: one was written since the reset; the memory
+  // itself has no reset), and a read of that address from the front copy: what it must return the next clock, on
+  // port A (0) and port B (1) of the first replica and on the last port.
+  for (genvar i = 0; i < 2; i++) begin : f_addr
+    localparam int a = (i == 0) ? 0 : DEPTH - 1;
+    logic [SW-1:0] f_word0, f_word1;
+    logic f_known0, f_known1;
+    logic [2:0] f_read_q;
+    logic [SW-1:0] f_expect_q;
+    always_ff @(posedge clk) begin
+      if (rst) begin
+        f_known0 <= 1'b0;
+        f_known1 <= 1'b0;
+      end else if (we && waddr == AW'(a)) begin
+        if (front_sel) begin
+          f_known0 <= 1'b1;
+          f_word0 <= wdata;
+        end else begin
+          f_known1 <= 1'b1;
+          f_word1 <= wdata;
+        end
+      end
+      f_read_q[0] <= !rst && (front_sel ? f_known1 : f_known0) && rd_addr[0+:AW] == AW'(a);
+      f_read_q[1] <= !rst && (front_sel ? f_known1 : f_known0) && rd_addr[(NREAD > 1 ? AW : 0)+:AW] == AW'(a);
+      f_read_q[2] <= !rst && (front_sel ? f_known1 : f_known0) && rd_addr[(NREAD-1)*AW+:AW] == AW'(a);
+      f_expect_q <= front_sel ? f_word1 : f_word0;
+    end
+  end
+  wire [SW-1:0] f_first_word0 = f_addr[0].f_word0, f_first_word1 = f_addr[0].f_word1;
+  wire [SW-1:0] f_last_word0 = f_addr[1].f_word0, f_last_word1 = f_addr[1].f_word1;
+  always_comb begin
+    if (past_valid) begin
+      // Invariant that makes the induction close: both banks of the first and the last replica hold the ghost
+      // words (the receiver's writes go to every replica).
+      p_mem_words: assert ((!f_addr[0].f_known0 || (g_replica[0].g_bank[0].mem[0] == f_first_word0
+                                                   && g_replica[REPLICAS-1].g_bank[0].mem[0] == f_first_word0))
+                           && (!f_addr[0].f_known1 || (g_replica[0].g_bank[1].mem[0] == f_first_word1
+                                                      && g_replica[REPLICAS-1].g_bank[1].mem[0] == f_first_word1))
+                           && (!f_addr[1].f_known0
+                               || (g_replica[0].g_bank[0].mem[DEPTH-1] == f_last_word0
+                                   && g_replica[REPLICAS-1].g_bank[0].mem[DEPTH-1] == f_last_word0))
+                           && (!f_addr[1].f_known1
+                               || (g_replica[0].g_bank[1].mem[DEPTH-1] == f_last_word1
+                                   && g_replica[REPLICAS-1].g_bank[1].mem[DEPTH-1] == f_last_word1)));
+      // Every read port returns the front copy's word as last written while that bank was the back copy: the
+      // receiver's writes never reach the copy on screen, and a read in the clock of a swap comes from the copy
+      // that was the front when the address was given. Rules out a write into the front copy, or data from the
+      // wrong bank (the read multiplexer a clock off).
+      p_read_front: assert ((!f_addr[0].f_read_q[0] || rd_word[0] == f_addr[0].f_expect_q)
+                            && (!f_addr[0].f_read_q[1] || rd_word[NREAD > 1 ? 1 : 0] == f_addr[0].f_expect_q)
+                            && (!f_addr[0].f_read_q[2] || rd_word[NREAD-1] == f_addr[0].f_expect_q)
+                            && (!f_addr[1].f_read_q[0] || rd_word[0] == f_addr[1].f_expect_q)
+                            && (!f_addr[1].f_read_q[1]
+                                || rd_word[NREAD > 1 ? 1 : 0] == f_addr[1].f_expect_q)
+                            && (!f_addr[1].f_read_q[2] || rd_word[NREAD-1] == f_addr[1].f_expect_q));
+    end
+  end
+
+  always_comb begin
+    if (past_valid) begin
+      // Invariants that make the induction close (each a property): the world waiting for the swap and the world
+      // shown are whole; a world is being written exactly while one is open; pending is the waiting world.
+      if (f_proto_ok) begin
+        p_pending_complete: assert (!pending || f_back_complete);
+        p_front_complete: assert (!front_valid || f_front_complete);
+        p_writing_open: assert (writing == f_open);
+        p_pending_closed: assert (!(pending && writing));
+        p_pending_waiting: assert (pending == f_waiting);
+        // The ready line (docs/link_format.md, "Transfers, the ready line and link time", "Device to host"): high
+        // exactly when no accepted world waits to be shown, including one being written in. Rules out a credit
+        // while an accepted world waits, and a ready line left low after the swap that showed it.
+        p_ready_rule: assert (ready == !f_unshown);
+        // worlds_replaced's event: a begin_write that overwrites a committed world no swap has shown, and only
+        // that. Rules out counting a world the swap in the same clock shows, or missing one overwritten.
+        p_replaced_rule: assert (replaced == (begin_write && f_waiting && !vblank_swap));
+      end
+    end
+  end
+  always_ff @(posedge clk) begin
+    if (past_valid && !$past(rst)) begin
+      if (front_sel != $past(front_sel)) begin
+        // The shown copy changes only in vertical blanking: the front bank changes only in a clock of
+        // vblank_swap. Rules out a swap outside blanking (a torn frame).
+        p_swap_only_in_vblank: assert ($past(vblank_swap));
+        // ... and only to a whole, accepted world waiting for it: the bank that becomes the front was committed
+        // after its last begin_write and not written since. Rules out showing a world half copied in, or swapping
+        // back to the world shown before.
+        if ($past(f_proto_ok)) p_swap_shows_complete: assert ($past(f_waiting && f_back_complete));
+      end else begin
+        // ... and a waiting world is shown at the first vertical blanking. Rules out a blanking that swaps nothing.
+        if ($past(f_proto_ok)) p_swap_at_first_vblank: assert (!$past(f_swap));
+        // The front copy's count, number and valid bit change only with a swap. Rules out a commit's count or
+        // number landing in the copy on screen.
+        p_front_meta_holds: assert (front_valid == $past(front_valid) && front_count == $past(front_count)
+                                    && front_sequence == $past(front_sequence));
+      end
+      // The ready line rises only at a swap and falls only when the receiver begins (or commits) a world.
+      if (ready && !$past(ready) && $past(f_proto_ok)) p_ready_rises_at_swap: assert ($past(f_swap));
+      if (!ready && $past(ready)) p_ready_falls_on_accept: assert ($past(begin_write || commit));
+    end
+  end
+`endif
 endmodule

@@ -95,4 +95,46 @@ module ts_vga_timing (
       end
     end
   end
+`ifdef FORMAL
+  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proof vga_timing). The periods and widths
+  // follow from them: the column steps by one per pixel clock and wraps at 799, the line steps when the column
+  // wraps and wraps at 524, so a line is 800 pixel clocks and a frame 525 lines; a sync is low for exactly the
+  // columns (lines) of its pulse, so hsync is low 96 pixel clocks a line and vsync 2 lines a frame.
+  logic past_valid = 1'b0;
+  always_ff @(posedge clk) past_valid <= 1'b1;
+  initial assume (rst);
+
+  always_comb begin
+    if (past_valid) begin
+      p_column_range: assert (column < 10'(HTotal));
+      p_line_range: assert (line < 10'(VTotal));
+    end
+  end
+  always_ff @(posedge clk) begin
+    if (past_valid && !$past(rst)) begin
+      p_phase_steps: assert (phase == $past(phase) + 2'd1);
+      // The column advances by one at the end of each pixel clock, from 799 to 0, and holds otherwise.
+      if ($past(pix_en)) begin
+        p_column_steps: assert (column == ($past(column) == 10'(HTotal - 1) ? 10'd0 : $past(column) + 10'd1));
+      end else begin
+        p_column_holds: assert (column == $past(column));
+      end
+      // The line advances when the column wraps, from 524 to 0, and holds otherwise.
+      if ($past(line_end)) begin
+        p_line_steps: assert (line == ($past(line) == 10'(VTotal - 1) ? 10'd0 : $past(line) + 10'd1));
+      end else begin
+        p_line_holds: assert (line == $past(line));
+      end
+      // The pins: from phase 2 on, the sample of the counters' position, registered at phase 1.
+      if ($past(phase) == 2'd1) begin
+        p_hsync_width: assert (vga_hsync_n == !($past(column) >= 10'(HSyncStart) && $past(column) < 10'(HSyncStart + HSync)));
+        p_vsync_width: assert (vga_vsync_n == !($past(line) >= 10'(VSyncStart) && $past(line) < 10'(VSyncStart + VSync)));
+        p_black_outside: assert ($past(visible) || vga_rgb == 12'h000);
+      end else begin
+        p_pins_hold: assert (vga_rgb == $past(vga_rgb) && vga_hsync_n == $past(vga_hsync_n)
+                             && vga_vsync_n == $past(vga_vsync_n));
+      end
+    end
+  end
+`endif
 endmodule

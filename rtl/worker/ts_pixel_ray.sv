@@ -10,7 +10,7 @@ module ts_pixel_ray #(
     output logic signed [DW-1:0] dx,
     output logic signed [DW-1:0] dy
 );
-  /* verilator lint_off UNUSEDSIGNAL */
+  /* verilator lint_off UNUSEDSIGNAL */  // with DW = 10 the direction drops x's top bit (see above)
   logic signed [10:0] x;  // -320..319
   /* verilator lint_on UNUSEDSIGNAL */
   logic signed [9:0] y;   // -240..239

@@ -80,9 +80,9 @@ module ts_reflect #(
   logic [4:0] step;  // 0: idle; 1..18: the edge about to happen (see above)
 
   // ---- edge 0: V, the multiples ------------------------------------------------------------------------
-  logic signed [DW-1:0]   in_d[3];
-  logic signed [OCW-1:0]  in_oc[3];
-  logic signed [OW-1:0]   in_o[3];
+  (* mem2reg *) logic signed [DW-1:0]   in_d[3];
+  (* mem2reg *) logic signed [OCW-1:0]  in_oc[3];
+  (* mem2reg *) logic signed [OW-1:0]   in_o[3];
   assign in_d[0] = in_dx;
   assign in_d[1] = in_dy;
   assign in_d[2] = in_dz;
@@ -93,17 +93,17 @@ module ts_reflect #(
   assign in_o[1] = in_oy;
   assign in_o[2] = in_oz;
 
-  logic [PRW-1:0]        mult[8];      // j 2a for j = 0..7
-  logic [QW-1:0]         v_low[3];     // the dividend's digits still to bring down
-  logic [PRW-1:0]        rem[3];       // the partial remainder, below 2a
-  logic [QW-1:0]         quot[3];
-  logic                  neg[3];       // d_k < 0
-  logic signed [DW-1:0]  d[3];
-  logic signed [OCW-1:0] oc[3];
-  logic signed [OW-1:0]  o[3];
+  (* mem2reg *) logic [PRW-1:0]        mult[8];      // j 2a for j = 0..7
+  (* mem2reg *) logic [QW-1:0]         v_low[3];     // the dividend's digits still to bring down
+  (* mem2reg *) logic [PRW-1:0]        rem[3];       // the partial remainder, below 2a
+  (* mem2reg *) logic [QW-1:0]         quot[3];
+  (* mem2reg *) logic                  neg[3];       // d_k < 0
+  (* mem2reg *) logic signed [DW-1:0]  d[3];
+  (* mem2reg *) logic signed [OCW-1:0] oc[3];
+  (* mem2reg *) logic signed [OW-1:0]  o[3];
 
-  logic [VW-1:0] v_of[3];
-  logic [DW-1:0] abs_d[3];
+  (* mem2reg *) logic [VW-1:0] v_of[3];
+  (* mem2reg *) logic [DW-1:0] abs_d[3];
   logic [EW-1:0] two_a;
   assign two_a = {in_a, 1'b0};
   for (genvar k = 0; k < 3; k++) begin : g_v
@@ -111,8 +111,8 @@ module ts_reflect #(
   end
 
   // ---- edges 1-9: a radix-8 digit ------------------------------------------------------------------------
-  logic [PRW-1:0] pr[3];       // the remainder with the next digit brought down
-  logic [2:0]     digit[3];
+  (* mem2reg *) logic [PRW-1:0] pr[3];       // the remainder with the next digit brought down
+  (* mem2reg *) logic [2:0]     digit[3];
   for (genvar k = 0; k < 3; k++) begin : g_digit
     assign pr[k] = {rem[k][PRW-4:0], v_low[k][QW-1-:3]};
     always_comb begin
@@ -122,22 +122,22 @@ module ts_reflect #(
   end
 
   // ---- edge 10: p and m ------------------------------------------------------------------------------------
-  logic signed [MW-1:0] m[3];
-  logic signed [OW:0]   q_signed[3];
+  (* mem2reg *) logic signed [MW-1:0] m[3];
+  (* mem2reg *) logic signed [OW:0]   q_signed[3];
   for (genvar k = 0; k < 3; k++) begin : g_q
     assign q_signed[k] = neg[k] ? -$signed({1'b0, OW'(quot[k])}) : $signed({1'b0, OW'(quot[k])});
   end
 
   // ---- edges 11-18 -------------------------------------------------------------------------------------------
-  logic [2*MW-1:0]         m2[3];
-  logic signed [DW+MW-1:0] dmk[3];
+  (* mem2reg *) logic [2*MW-1:0]         m2[3];
+  (* mem2reg *) logic signed [DW+MW-1:0] dmk[3];
   logic [MMW-1:0]          mm;
   logic signed [DMW-1:0]   dm;
-  logic signed [RRW-1:0]   p_dmm[3], p_dmm2[3];
-  logic signed [RRW-1:0]   r[3];
-  logic [RRW-1:0]          r_abs[3];
+  (* mem2reg *) logic signed [RRW-1:0]   p_dmm[3], p_dmm2[3];
+  (* mem2reg *) logic signed [RRW-1:0]   r[3];
+  (* mem2reg *) logic [RRW-1:0]          r_abs[3];
   logic [SW-1:0]           shift;
-  logic [2*DW-1:0]         d2[3];
+  (* mem2reg *) logic [2*DW-1:0]         d2[3];
 
   logic [SW-1:0] length;
   assign length = bit_length(r_abs[0] | r_abs[1] | r_abs[2]);
@@ -148,13 +148,13 @@ module ts_reflect #(
   localparam int XAW = NUMW > MMW + 1 ? NUMW : MMW + 1;
   localparam int YAW = MW > DW + 1 ? MW : DW + 1;
   localparam int XBW = DMW > DW ? DMW : DW;
-  logic signed [XAW-1:0]     mul_xa[3];
-  logic signed [YAW-1:0]     mul_ya[3];
-  logic signed [XAW+YAW-1:0] mul_a[3];
-  logic signed [XBW-1:0]     mul_xb[3];
-  logic signed [MW-1:0]      mul_yb[3];
-  logic signed [XBW+MW-1:0]  mul_b[3];
-  logic signed [DW-1:0]      ray_d[3];
+  (* mem2reg *) logic signed [XAW-1:0]     mul_xa[3];
+  (* mem2reg *) logic signed [YAW-1:0]     mul_ya[3];
+  (* mem2reg *) logic signed [XAW+YAW-1:0] mul_a[3];
+  (* mem2reg *) logic signed [XBW-1:0]     mul_xb[3];
+  (* mem2reg *) logic signed [MW-1:0]      mul_yb[3];
+  (* mem2reg *) logic signed [XBW+MW-1:0]  mul_b[3];
+  (* mem2reg *) logic signed [DW-1:0]      ray_d[3];
   assign ray_d[0] = ray_dx;
   assign ray_d[1] = ray_dy;
   assign ray_d[2] = ray_dz;

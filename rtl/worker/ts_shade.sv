@@ -93,13 +93,13 @@ module ts_shade #(
   // ---- E1 and E2: the products (ts_shade's own, or the sphere test's) -------------------------------
   logic                 e1_valid, e1_hit;
   logic [DENW-1:0]      e1_den;
-  logic [PW-1:0]        e1_tint[3];
+  (* mem2reg *) logic [PW-1:0]        e1_tint[3];
   logic [1:0]           e1_bounces;
   logic [9:0]           e1_col;
   logic [DENW-1:0]      den;        // den of the inputs
-  logic signed [YW-1:0] p1[3], p2[3];  // E2's (7 num) d_k and 2a (7 oc_k - 8 r), from the E1 registers
+  (* mem2reg *) logic signed [YW-1:0] p1[3], p2[3];  // E2's (7 num) d_k and 2a (7 oc_k - 8 r), from the E1 registers
 
-  logic [PW-1:0]         in_tint[3];
+  (* mem2reg *) logic [PW-1:0]         in_tint[3];
   assign in_tint[0] = in_tint_r;
   assign in_tint[1] = in_tint_g;
   assign in_tint[2] = in_tint_b;
@@ -124,11 +124,11 @@ module ts_shade #(
 
   if (SHARED == 0) begin : g_own
     logic signed [N7W-1:0] e1_n7;
-    logic signed [WW-1:0]  e1_w[3];
+    (* mem2reg *) logic signed [WW-1:0]  e1_w[3];
     logic [AAW:0]          e1_two_a;
-    logic signed [DW-1:0]  e1_d[3];
-    logic signed [OCW-1:0] in_oc[3];
-    logic signed [DW-1:0]  in_d[3];
+    (* mem2reg *) logic signed [DW-1:0]  e1_d[3];
+    (* mem2reg *) logic signed [OCW-1:0] in_oc[3];
+    (* mem2reg *) logic signed [DW-1:0]  in_d[3];
     assign in_oc[0] = in_ocx;
     assign in_oc[1] = in_ocy;
     assign in_oc[2] = in_ocz;
@@ -160,7 +160,7 @@ module ts_shade #(
       assign p2[k] = YW'($signed({1'b0, e1_two_a})) * YW'(e1_w[k]);
     end
 
-    /* verilator lint_off UNUSEDSIGNAL */
+    /* verilator lint_off UNUSEDSIGNAL */  // own multipliers: the sphere test's shared products are not needed
     logic unused_products;
     /* verilator lint_on UNUSEDSIGNAL */
     assign unused_products = ^{in_a_ocx, in_a_ocy, in_a_ocz, in_a_r, in_num_dx, in_num_dy};
@@ -195,7 +195,7 @@ module ts_shade #(
       assign p2[k] = (e1_aoc[k] <<< 4) - (e1_aoc[k] <<< 1) - (e1_ar <<< 4);
     end
 
-    /* verilator lint_off UNUSEDSIGNAL */
+    /* verilator lint_off UNUSEDSIGNAL */  // shared products: the sphere test multiplied these operands already
     logic unused_operands;
     /* verilator lint_on UNUSEDSIGNAL */
     assign unused_operands = ^{in_ocx, in_ocy, in_ocz, in_r, in_dx, in_dy, in_dz, in_a};
@@ -209,9 +209,9 @@ module ts_shade #(
 
   // ---- E2: (7 num) d_k and 2a (7 oc_k - 8 r) -------------------------------------------------------------
   logic                 e2_valid, e2_hit;
-  logic signed [YW-1:0] e2_p1[3], e2_p2[3];
+  (* mem2reg *) logic signed [YW-1:0] e2_p1[3], e2_p2[3];
   logic [DENW-1:0]      e2_den;
-  logic [PW-1:0]        e2_tint[3];
+  (* mem2reg *) logic [PW-1:0]        e2_tint[3];
   logic [1:0]           e2_bounces;
   logic [9:0]           e2_col;
 
@@ -243,9 +243,9 @@ module ts_shade #(
 
   // ---- E3: Y -------------------------------------------------------------------------------------------
   logic                 e3_valid, e3_hit;
-  logic signed [YW-1:0] e3_y[3];
+  (* mem2reg *) logic signed [YW-1:0] e3_y[3];
   logic [DENW-1:0]      e3_den;
-  logic [PW-1:0]        e3_tint[3];
+  (* mem2reg *) logic [PW-1:0]        e3_tint[3];
   logic [1:0]           e3_bounces;
   logic [9:0]           e3_col;
 
@@ -275,15 +275,15 @@ module ts_shade #(
 
   // ---- E4: quotient bits 3 and 2 -------------------------------------------------------------------------
   logic                 e4_valid, e4_hit;
-  logic                 e4_neg[3];
-  logic [1:0]           e4_q[3];
-  logic [REMW-1:0]      e4_rem[3];
+  (* mem2reg *) logic                 e4_neg[3];
+  (* mem2reg *) logic [1:0]           e4_q[3];
+  (* mem2reg *) logic [REMW-1:0]      e4_rem[3];
   logic [DENW-1:0]      e4_den;
-  logic [PW-1:0]        e4_tint[3];
+  (* mem2reg *) logic [PW-1:0]        e4_tint[3];
   logic [1:0]           e4_bounces;
   logic [9:0]           e4_col;
 
-  logic [REMW:0] e3_s3[3], e3_s2[3];
+  (* mem2reg *) logic [REMW:0] e3_s3[3], e3_s2[3];
   for (genvar k = 0; k < 3; k++) begin : g_e4
     assign e3_s3[k] = den_step(REMW'(e3_y[k]), REMW'(e3_den) << 3);
     assign e3_s2[k] = den_step(e3_s3[k][REMW-1:0], REMW'(e3_den) << 2);
@@ -319,13 +319,13 @@ module ts_shade #(
 
   // ---- E5: quotient bits 1 and 0; the channel ------------------------------------------------------------
   logic       e5_valid;
-  logic [3:0] e5_base[3];
-  logic [PW-1:0] e5_tint[3];
+  (* mem2reg *) logic [3:0] e5_base[3];
+  (* mem2reg *) logic [PW-1:0] e5_tint[3];
   logic [1:0] e5_bounces;
   logic [9:0] e5_col;
 
-  logic [REMW:0] e4_s1[3], e4_s0[3];
-  logic [3:0]    e4_quot[3], e4_ch[3], e4_base[3];
+  (* mem2reg *) logic [REMW:0] e4_s1[3], e4_s0[3];
+  (* mem2reg *) logic [3:0]    e4_quot[3], e4_ch[3], e4_base[3];
   for (genvar k = 0; k < 3; k++) begin : g_e5
     assign e4_s1[k] = den_step(e4_rem[k], REMW'(e4_den) << 1);
     assign e4_s0[k] = den_step(e4_s1[k][REMW-1:0], REMW'(e4_den));
@@ -356,7 +356,7 @@ module ts_shade #(
   end
 
   if (MAX_BOUNCES == 0) begin : g_plain
-    /* verilator lint_off UNUSEDSIGNAL */
+    /* verilator lint_off UNUSEDSIGNAL */  // no bounces: no mirror's tint is ever applied
     logic [PW-1:0] unused_tint[3];
     /* verilator lint_on UNUSEDSIGNAL */
     for (genvar k = 0; k < 3; k++) begin : g_unused
@@ -369,7 +369,7 @@ module ts_shade #(
   end else begin : g_tint
     // ---- E6: B * prod(albedo) ----------------------------------------------------------------------------
     logic            e6_valid;
-    logic [XW-1:0]   e6_x[3];
+    (* mem2reg *) logic [XW-1:0]   e6_x[3];
     logic [XW-1:0]   e6_scale;
     logic [1:0]      e6_bounces;
     logic [9:0]      e6_col;
@@ -391,12 +391,12 @@ module ts_shade #(
 
     // ---- E7: quotient bits 3 and 2 of the division by 255^k ------------------------------------------------
     logic            e7_valid;
-    logic [1:0]      e7_q[3];
-    logic [XW-1:0]   e7_rem[3];
+    (* mem2reg *) logic [1:0]      e7_q[3];
+    (* mem2reg *) logic [XW-1:0]   e7_rem[3];
     logic [XW-1:0]   e7_scale;
     logic [1:0]      e7_bounces;
     logic [9:0]      e7_col;
-    logic [XW:0]     e6_s3[3], e6_s2[3];
+    (* mem2reg *) logic [XW:0]     e6_s3[3], e6_s2[3];
     for (genvar k = 0; k < 3; k++) begin : g_e7
       assign e6_s3[k] = tint_step(e6_x[k], e6_scale << 3);
       assign e6_s2[k] = tint_step(e6_s3[k][XW-1:0], e6_scale << 2);
@@ -424,8 +424,8 @@ module ts_shade #(
     end
 
     // ---- E8: bits 1 and 0: the channel (at most B, so no clamp is needed) ------------------------------------
-    logic [XW:0] e7_s1[3], e7_s0[3];
-    logic [3:0]  e7_ch[3];
+    (* mem2reg *) logic [XW:0] e7_s1[3], e7_s0[3];
+    (* mem2reg *) logic [3:0]  e7_ch[3];
     for (genvar k = 0; k < 3; k++) begin : g_e8
       assign e7_s1[k] = tint_step(e7_rem[k], e7_scale << 1);
       assign e7_s0[k] = tint_step(e7_s1[k][XW-1:0], e7_scale);

@@ -116,11 +116,11 @@ module ts_sphere_test #(
   logic [TAG_W-1:0]       s1_tag;
   logic [9:0]             s1_col;
   logic [8:0]             s1_row;
-  logic signed [OCW-1:0]  s1_oc[3];
+  (* mem2reg *) logic signed [OCW-1:0]  s1_oc[3];
   logic [RW-1:0]          s1_r;
   logic [17:0]            s1_dx2, s1_dy2;  // (col - 320)^2 <= 102400, (row - 240)^2 <= 57600
 
-  logic signed [OCW-1:0]  in_c[3], in_o[3];
+  (* mem2reg *) logic signed [OCW-1:0]  in_c[3], in_o[3];
   assign in_c[0] = OCW'(in_cx);
   assign in_c[1] = OCW'(in_cy);
   assign in_c[2] = OCW'(in_cz);
@@ -135,8 +135,8 @@ module ts_sphere_test #(
 
   // The products, each registered by its stage (g_own_multipliers, g_shared_multipliers below).
   logic [17:0]              m_dx2, m_dy2;  // S1
-  logic signed [DW+OCW-1:0] m_doc[3];      // S2
-  logic [2*OCW-1:0]         m_oc2[3];
+  (* mem2reg *) logic signed [DW+OCW-1:0] m_doc[3];      // S2
+  (* mem2reg *) logic [2*OCW-1:0]         m_oc2[3];
   logic [2*RW-1:0]          m_r2;
   logic signed [DSW-1:0]    m_b2, m_ac;    // S4: b^2, a c'
 
@@ -171,14 +171,14 @@ module ts_sphere_test #(
   logic [TAG_W-1:0]         s2_tag;
   logic [9:0]               s2_col;
   logic [8:0]               s2_row;
-  logic signed [OCW-1:0]    s2_oc[3];
+  (* mem2reg *) logic signed [OCW-1:0]    s2_oc[3];
   logic [RW-1:0]            s2_r;
-  logic signed [DW+OCW-1:0] s2_doc[3];
-  logic [2*OCW-1:0]         s2_oc2[3];
+  (* mem2reg *) logic signed [DW+OCW-1:0] s2_doc[3];
+  (* mem2reg *) logic [2*OCW-1:0]         s2_oc2[3];
   logic [2*RW-1:0]          s2_r2;
   logic [18:0]              s2_a_cam;
 
-  logic signed [DW-1:0] s1_d[3];
+  (* mem2reg *) logic signed [DW-1:0] s1_d[3];
   logic signed [DW-1:0] s1_cam_dx, s1_cam_dy;
   ts_pixel_ray #(.DW(DW)) s1_camera (.col(s1_col), .row(s1_row), .dx(s1_cam_dx), .dy(s1_cam_dy));
   assign s1_d[0] = s1_refl ? refl_dx : s1_cam_dx;
@@ -224,7 +224,7 @@ module ts_sphere_test #(
   logic [TAG_W-1:0]       s3_tag;
   logic [9:0]             s3_col;
   logic [8:0]             s3_row;
-  logic signed [OCW-1:0]  s3_oc[3];
+  (* mem2reg *) logic signed [OCW-1:0]  s3_oc[3];
   logic [RW-1:0]          s3_r;
   logic [18:0]            s3_a_cam;
   logic signed [BW-1:0]   s3_b;
@@ -263,7 +263,7 @@ module ts_sphere_test #(
   logic [TAG_W-1:0]       s4_tag;
   logic [9:0]             s4_col;
   logic [8:0]             s4_row;
-  logic signed [OCW-1:0]  s4_oc[3];
+  (* mem2reg *) logic signed [OCW-1:0]  s4_oc[3];
   logic [RW-1:0]          s4_r;
   logic [18:0]            s4_a_cam;
   logic signed [BW-1:0]   s4_b;
@@ -291,7 +291,7 @@ module ts_sphere_test #(
     assign mul_a_r = '0;
     assign mul_num_dx = '0;
     assign mul_num_dy = '0;
-    /* verilator lint_off UNUSEDSIGNAL */
+    /* verilator lint_off UNUSEDSIGNAL */  // the shading's shared products go unused: it has its own multipliers
     logic unused_mul;
     /* verilator lint_on UNUSEDSIGNAL */
     assign unused_mul = ^{mul_shade, mul_a, mul_ocx, mul_ocy, mul_ocz, mul_r, mul_num, mul_dx, mul_dy};
@@ -398,7 +398,7 @@ module ts_sphere_test #(
   logic [TAG_W-1:0]       s5_tag;
   logic [9:0]             s5_col;
   logic [8:0]             s5_row;
-  logic signed [OCW-1:0]  s5_oc[3];
+  (* mem2reg *) logic signed [OCW-1:0]  s5_oc[3];
   logic [RW-1:0]          s5_r;
   logic [18:0]            s5_a_cam;
   logic signed [BW-1:0]   s5_b;
@@ -442,7 +442,7 @@ module ts_sphere_test #(
   logic [CARRY_W-1:0] sq_in_carry, sq_out_carry;
   logic               sq_out_valid;
   logic [RTW-1:0]     sq_root;
-  /* verilator lint_off UNUSEDSIGNAL */
+  /* verilator lint_off UNUSEDSIGNAL */  // the worker's schedule never outpaces the root unit (see in_ready below)
   logic               sq_ready_unused;
   /* verilator lint_on UNUSEDSIGNAL */
 

@@ -186,16 +186,16 @@ module ts_worker #(
   // makes on the sphere test's multipliers (0 when pipelined: the shading has its own).
   logic                    shade_start;
   logic signed [NUMW-1:0]  pe_num;
-  logic signed [OCW-1:0]   pe_oc[3];
+  (* mem2reg *) logic signed [OCW-1:0]   pe_oc[3];
   logic [R_W-1:0]          pe_r;
-  logic signed [DW-1:0]    pe_d[3];
+  (* mem2reg *) logic signed [DW-1:0]    pe_d[3];
   logic [AAW-1:0]          pe_a;
-  logic signed [AAW+OCW:0] pe_a_oc[3];
+  (* mem2reg *) logic signed [AAW+OCW:0] pe_a_oc[3];
   logic [AAW+R_W-1:0]      pe_a_r;
-  logic signed [BW+DW-1:0] pe_num_d[2];
+  (* mem2reg *) logic signed [BW+DW-1:0] pe_num_d[2];
 
-  logic signed [OW-1:0]   ray_o[3];   // the reflected ray (ts_reflect); 0 without reflections
-  logic signed [DW-1:0]   ray_d[3];
+  (* mem2reg *) logic signed [OW-1:0]   ray_o[3];   // the reflected ray (ts_reflect); 0 without reflections
+  (* mem2reg *) logic signed [DW-1:0]   ray_d[3];
   logic [AAW-1:0]         ray_a;
 
   logic                   ct_valid, ct_refl, ct_hit;
@@ -204,7 +204,7 @@ module ts_worker #(
   logic [8:0]             ct_row;
   logic [18:0]            ct_a_cam;
   logic signed [NUMW-1:0] ct_num;
-  logic signed [OCW-1:0]  ct_oc[3];
+  (* mem2reg *) logic signed [OCW-1:0]  ct_oc[3];
   logic [R_W-1:0]         ct_r;
   logic                   ct_first, ct_last, ct_metal;
   logic [AW-1:0]          ct_idx;
@@ -268,20 +268,20 @@ module ts_worker #(
   // ---- the closest update: the pass's nearest hit so far; ties keep the lower index ----------------------
   logic                   acc_hit, acc_metal;
   logic signed [NUMW-1:0] acc_num;
-  logic signed [OCW-1:0]  acc_oc[3];
+  (* mem2reg *) logic signed [OCW-1:0]  acc_oc[3];
   logic [R_W-1:0]         acc_r;
   logic [AW-1:0]          acc_idx;
   logic [23:0]            acc_albedo;
 
   logic                   better, fin_hit, fin_metal;
   logic signed [NUMW-1:0] fin_num;
-  logic signed [OCW-1:0]  fin_oc[3];
+  (* mem2reg *) logic signed [OCW-1:0]  fin_oc[3];
   logic [R_W-1:0]         fin_r;
   logic [AW-1:0]          fin_idx;
   logic [23:0]            fin_albedo;
   logic                   pass_end;
   logic [1:0]             head_k;     // reflections traced so far for the oldest pixel in flight
-  logic [PW-1:0]          head_p[3];  // their albedos' products
+  (* mem2reg *) logic [PW-1:0]          head_p[3];  // their albedos' products
   logic                   reflect_now;
 
   assign better = ct_hit && (ct_first || !acc_hit || ct_num < acc_num);
@@ -325,7 +325,7 @@ module ts_worker #(
   logic [8:0]             pe_row;
   logic [18:0]            pe_a_cam;
   logic [1:0]             pe_k;
-  logic [PW-1:0]          pe_p[3];
+  (* mem2reg *) logic [PW-1:0]          pe_p[3];
 
   always_ff @(posedge clk) begin
     if (rst || flush) begin
@@ -415,7 +415,7 @@ module ts_worker #(
 
   // The reflected ray, and the oldest pixel's reflections (the only pixel that can have any).
   if (REFLECT) begin : g_reflect
-    logic signed [OW-1:0] pe_o[3];
+    (* mem2reg *) logic signed [OW-1:0] pe_o[3];
     for (genvar k = 0; k < 3; k++) begin : g_pe_o
       assign pe_o[k] = pe_refl ? ray_o[k] : '0;
     end
@@ -551,10 +551,10 @@ module ts_worker #(
 
     // ---- the colour: the shade's, delayed to the drain ----------------------------------------------------
     localparam int DELAY = DRAIN - PASS_END - SHADE_LAT;
-    logic        dl_valid[DELAY+1];
-    logic [9:0]  dl_col[DELAY+1];
-    logic [11:0] dl_colour[DELAY+1];
-    logic [1:0]  dl_bounces[DELAY+1];
+    (* mem2reg *) logic        dl_valid[DELAY+1];
+    (* mem2reg *) logic [9:0]  dl_col[DELAY+1];
+    (* mem2reg *) logic [11:0] dl_colour[DELAY+1];
+    (* mem2reg *) logic [1:0]  dl_bounces[DELAY+1];
     assign dl_valid[0] = sh_valid;
     assign dl_col[0] = sh_col;
     assign dl_colour[0] = sh_colour;
@@ -641,7 +641,7 @@ module ts_worker #(
       end
     end
 
-    /* verilator lint_off UNUSEDSIGNAL */
+    /* verilator lint_off UNUSEDSIGNAL */  // the shading's bounce count and column: this worker tracks its own pixel
     logic [11:0] unused;
     /* verilator lint_on UNUSEDSIGNAL */
     assign unused = {sh_bounces, sh_col};
