@@ -43,8 +43,12 @@
 #include "check.h"
 #include "trace_pixels.h"
 #include "frame_repair.h"
+#include "transfers.h"
 
 namespace {
+
+using tripsitter::fuzz::Transfer;
+using tripsitter::fuzz::transfers_of;
 
 namespace core = tripsitter::core;
 namespace device = tripsitter::device;
@@ -100,11 +104,6 @@ class SequenceModel {
   std::optional<std::uint32_t> session_;  // v3: the current session
   std::optional<std::uint32_t> last_;     // the last number seen (of the current session)
   std::deque<std::uint32_t> ended_;       // v3: the sessions that ended, oldest first
-};
-
-struct Transfer {
-  std::size_t bytes = 0;
-  bool blanking = false;  // a vertical blanking after it
 };
 
 // The receiver's acceptance rules for a framed wire (receiver.h, docs/device.md): the sequence rules for every
@@ -224,25 +223,6 @@ void check_front(const device::SceneMemory& m, const device::DevicePreset& p, li
   }
 }
 
-// The transfers the input's transfer bytes make of `size` link bytes.
-std::vector<Transfer> transfers_of(std::span<const std::uint8_t> ops, std::size_t unit, std::size_t size) {
-  std::vector<Transfer> transfers;
-  std::size_t at = 0, op = 0, idle_ops = 0;
-  while (at < size) {
-    Transfer t{size - at, false};
-    if (!ops.empty()) {
-      const std::uint8_t o = ops[op++ % ops.size()];
-      t.bytes = std::min(t.bytes, (o & 0x7F) * unit);
-      t.blanking = (o & 0x80) != 0;
-      // Only empty transfers: send the rest at once rather than loop for ever.
-      idle_ops = t.bytes == 0 ? idle_ops + 1 : 0;
-      if (idle_ops > ops.size()) t.bytes = size - at;
-    }
-    transfers.push_back(t);
-    at += t.bytes;
-  }
-  return transfers;
-}
 
 }  // namespace
 

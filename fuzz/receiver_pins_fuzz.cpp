@@ -94,8 +94,11 @@
 
 #include "check.h"
 #include "frame_repair.h"
+#include "transfers.h"
 
 namespace {
+
+using tripsitter::fuzz::Transfer;
 
 namespace device = tripsitter::device;
 namespace link = tripsitter::link;
@@ -131,28 +134,10 @@ struct Cfg : P {
 
 // ---- The input ----
 
-struct Transfer {
-  std::size_t bytes = 0;
-  bool blanking = false;  // a vertical blanking after it
-};
-
-// The transfers the input's transfer bytes make of `size` link bytes (receiver_fuzz.cpp's rule).
-std::vector<Transfer> transfers_of(std::span<const std::uint8_t> ops, std::size_t unit, std::size_t size) {
-  std::vector<Transfer> transfers;
-  std::size_t at = 0, op = 0, idle_ops = 0;
-  while (at < size) {
-    Transfer t{size - at, false};
-    if (!ops.empty()) {
-      const std::uint8_t o = ops[op++ % ops.size()];
-      t.bytes = std::min(t.bytes, (o & 0x7F) * unit);
-      t.blanking = (o & 0x80) != 0;
-      idle_ops = t.bytes == 0 ? idle_ops + 1 : 0;
-      if (idle_ops > ops.size()) t.bytes = size - at;
-    }
-    transfers.push_back(t);
-    at += t.bytes;
-  }
-  if (transfers.empty()) transfers.push_back({});  // no link bytes: one empty transfer still moves the pins
+// The transfers of receiver_fuzz.cpp's rule; no link bytes still make one empty transfer, which moves the pins.
+std::vector<Transfer> pin_transfers_of(std::span<const std::uint8_t> ops, std::size_t unit, std::size_t size) {
+  std::vector<Transfer> transfers = tripsitter::fuzz::transfers_of(ops, unit, size);
+  if (transfers.empty()) transfers.push_back({});
   return transfers;
 }
 
@@ -645,7 +630,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   in.link_bytes.assign(data + at, data + std::min(size, at + kMaxLinkBytes));
   if (wire != link::WireVersion::kV1 && !(config & 0x10)) tripsitter::fuzz::repair_frame_crcs(wire, in.link_bytes);
   const std::size_t unit = std::size_t{1} << (2 * ((config >> 2) & 3));
-  in.transfers = transfers_of(ops, unit, in.link_bytes.size());
+  in.transfers = pin_transfers_of(ops, unit, in.link_bytes.size());
   // The seed of the RTL's random initial state: from the input, so that a reproducer runs the same again.
   std::uint32_t seed = 2166136261u;
   for (std::size_t i = 0; i < size; ++i) seed = (seed ^ data[i]) * 16777619u;
