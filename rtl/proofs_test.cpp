@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -23,6 +24,9 @@ struct Proof {
   std::string mode;  // induction or bmc
   int plants = 0;
 };
+
+// GoogleTest names a parameter by its proof.
+void PrintTo(const Proof& proof, std::ostream* os) { *os << proof.name; }
 
 std::vector<std::string> split_tabs(const std::string& line) {
   std::vector<std::string> fields;

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Lints every module of rtl/ as a top, with its default parameters, the way the tests and synthesis read it
 # (docs/rtl.md, "Lint"):
-#   - Verilator 5.006 --lint-only -Wall, once as synthesis reads the module and once with its formal properties
-#     (+define+FORMAL);
+#   - Verilator 5.006 --lint-only -Wall, as synthesis reads the module, and each proof's top with its formal
+#     properties (+define+FORMAL) and the proof's parameters (rtl/*/proofs.tsv);
 #   - Yosys 0.23 read_verilog -sv (and -formal) of every source, then hierarchy -check of each module as the top;
 #   - every Verilator waiver (lint_off) says why, in a comment on its line, the line before, or before its lint_on.
 # Prints each warning as the tool does, then one summary line; exit 0 when nothing was found, 1 otherwise, 2 when a
@@ -26,17 +26,32 @@ log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 found=0
 
+# verilator_lint TOP ARGS...: Verilator -Wall on TOP with ARGS; prints what it says and counts a finding.
+verilator_lint() {
+  local top=$1
+  shift
+  # The board top reads its ROM image from its own folder.
+  if ! verilator --lint-only -Wall -Irtl/boards/arty_a7 --top-module "$top" "$@" "${sources[@]}" > "$log" 2>&1 \
+      || [ -s "$log" ]; then
+    echo "verilator $top $*:"
+    sed 's/^/  /' "$log"
+    found=$((found + 1))
+  fi
+}
 for m in "${modules[@]}"; do
-  for define in "" "+define+FORMAL"; do
-    # The board top reads its ROM image from its own folder.
-    if ! verilator --lint-only -Wall $define -Irtl/boards/arty_a7 --top-module "$m" "${sources[@]}" > "$log" 2>&1 \
-        || [ -s "$log" ]; then
-      echo "verilator ${define:+$define }$m:"
-      sed 's/^/  /' "$log"
-      found=$((found + 1))
-    fi
-  done
+  verilator_lint "$m"
 done
+# The formal properties as scripts/prove.sh reads them: each proof's top, with the proof's parameters. (A module's
+# properties are read only when it is a proof's top; some name signals of one generate branch, e.g. ts_sqrt_unit's
+# pipelined stages, which Verilator cannot resolve in an instance that elaborates the other.)
+while IFS=$'\t' read -r kind _ top _ _ _ _ params; do
+  [ "$kind" = proof ] || continue
+  args=(+define+FORMAL)
+  if [ "$params" != - ]; then
+    for p in $params; do args+=("-G$p"); done
+  fi
+  verilator_lint "$top" "${args[@]}"
+done < <(cat rtl/*/proofs.tsv)
 
 script=""
 for m in "${modules[@]}"; do

@@ -352,10 +352,9 @@ module ts_sqrt_unit #(
     f_search = CW'(m) <= cw + gx2 + g2 && (CW'(x) <= CW'(1) << (N - k) || cw + g2 - gx2 < CW'(m));
   endfunction
 
-  logic [WE-1:0] f_lz_d;  // the input in the lz stage
-  always_ff @(posedge clk) f_lz_d <= WE'(in_value);
-
   if (PIPELINED != 0) begin : g_f_pipelined
+    logic [WE-1:0] f_lz_d;  // the input in the lz stage
+    always_ff @(posedge clk) f_lz_d <= WE'(in_value);
     (* mem2reg *) logic [WE-1:0] f_d[N+2];  // the input of each stage, and of the result (f_d[N + 1])
     logic [N:0]    f_sq, f_srch;
     logic [N-1:0]  f_carried;
