@@ -159,13 +159,13 @@ failed_in() {
 check() {
   local dir=$1 k=$2 m=$3
   verdict=bounded failed_property="" trace=""
-  if ! yosys-smtbmc -s z3 --presat -t "$k" --dump-vcd "$dir/bmc.vcd" "$dir/model.smt2" > "$dir/bmc.log" 2>&1; then
+  if ! yosys-smtbmc -s z3 --unroll --presat -t "$k" --dump-vcd "$dir/bmc.vcd" "$dir/model.smt2" > "$dir/bmc.log" 2>&1; then
     verdict=failed trace=$dir/bmc.vcd
     failed_property=$(failed_in "$dir/bmc.log")
     return
   fi
   [ "$m" = induction ] || return 0
-  if yosys-smtbmc -s z3 --presat -i -t "$k" --dump-vcd "$dir/induction.vcd" "$dir/model.smt2" > "$dir/induction.log" 2>&1; then
+  if yosys-smtbmc -s z3 --unroll --presat -i -t "$k" --dump-vcd "$dir/induction.vcd" "$dir/model.smt2" > "$dir/induction.log" 2>&1; then
     verdict=proven
   else
     verdict=failed trace=$dir/induction.vcd

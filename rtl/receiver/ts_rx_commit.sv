@@ -199,9 +199,10 @@ module ts_rx_commit #(
   assign idle = source_idle && !rep_valid && !word_valid && !partial_valid && !intact && !seq_done && !sm_begin &&
                 !admit_drop && !admit_copy && !v1_write_q && !copy_done;
 `ifdef FORMAL
-  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proof rx_commit_v3). The inputs (the decoders'
-  // outputs) are free; the properties hold while they have kept the contract below (f_src_ok_now: so far, this clock included), which ts_rx_frame
-  // and ts_rx_sequence guarantee (their p_* properties named with each clause). Only the reset is assumed.
+  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proofs rx_commit_v3, rx_commit_v1). The inputs
+  // (the decoders' outputs) are free; the properties hold while the inputs have kept the contract below
+  // (f_src_ok_now: so far, this clock included), which ts_rx_frame, ts_rx_sequence and ts_rx_v1_word guarantee
+  // (their properties named with each clause). Nothing is assumed but the reset at the start.
   logic past_valid = 1'b0;
   always_ff @(posedge clk) past_valid <= 1'b1;
   initial assume (rst);
@@ -209,10 +210,10 @@ module ts_rx_commit #(
   // ---- The contract of the framed wires' decoders (ts_rx_frame, ts_rx_sequence) ----
   // One frame at a time: `intact`, then the verdict (seq_done) two clocks later (ts_rx_sequence's
   // p_done_after_check), then, if admitted for copy, its records with rec_copy and copy_done after exactly
-  // hdr_count of them (ts_rx_frame's p_copy_*); no report in the clock of a verdict; the frame's header and content
-  // flags held from intact until the frame is done with, and its count within the capacity (p_waits_held,
-  // p_count_within); no record of the check pass (rec_copy low) while a frame waits or is copied; no header
-  // passed (in_body) in the clock after a reset.
+  // hdr_count of them (ts_rx_frame's p_copy_after_admit, p_copy_records, p_copy_done_count); no report and no
+  // record of the check pass (rec_copy low) while a frame waits or is copied (p_one_waits); the frame's header and
+  // content flags held from intact until the frame is done with (p_waits_held), its count within the capacity
+  // (p_header_checked); no header passed (in_body) in the clock after a reset (hdr_ok_q is reset).
   logic f_src_ok, f_rst_q;
   logic [1:0] f_wait;     // clocks since intact while the verdict is pending (1, 2), 0: none pending
   logic f_copy;           // admitted for copy: records and copy_done may come
@@ -223,7 +224,11 @@ module ts_rx_commit #(
   logic f_bad_sphere;
   wire f_busy = f_wait != 2'd0 || f_copy;
   wire f_rec_copy = rec_valid && rec_copy;
-  wire f_src_ok_now = f_src_ok && (V1 || !(
+  // v1 (ts_rx_v1_word): a word (word_valid) or a partial word (partial_valid) at most one a clock, and a word
+  // never in the two clocks after another (its 8 bytes take 8 clocks at least: ts_rx_v1_word's p_word_spacing).
+  logic [1:0] f_v1_recent;  // a word in the last clock (bit 0) or the one before (bit 1)
+  wire f_v1_ok = !(word_valid && (partial_valid || f_v1_recent != 2'b00));
+  wire f_src_ok_now = f_src_ok && (V1 ? f_v1_ok : !(
       (intact && (f_busy || admit_copy)) ||
       (seq_done != (f_wait == 2'd2)) ||
       (f_rec_copy && (!f_copy || f_copied >= (AW + 2)'(hdr_count))) ||
@@ -236,6 +241,7 @@ module ts_rx_commit #(
                   hdr_frac != f_frac || bad_sphere != f_bad_sphere || !in_body))));
   always_ff @(posedge clk) begin
     f_rst_q <= rst;
+    f_v1_recent <= rst ? 2'b00 : {f_v1_recent[0], word_valid};
     if (rst) begin
       f_src_ok <= 1'b1;
       f_wait <= '0;
@@ -295,6 +301,10 @@ module ts_rx_commit #(
                        && (!f_busy || f_count <= (AW + 1)'(MaxSpheres)));
       p_outside_tracks: assert (!in_body || outside_any_q == f_outside);
     end
+    if (past_valid && V1 && f_src_ok_now) begin
+      // v1: a word's begin_write the clock after it, its write and commit the clock after that.
+      p_v1_phase: assert (f_open == v1_write_q && (!sm_begin || f_v1_recent[0]) && (!v1_write_q || f_v1_recent[1]));
+    end
     if (past_valid && f_src_ok_now) begin
       // Scene memory's write protocol (ts_scene_memory's f_proto_ok): begin_write when no world is open, writes and
       // the commit only while one is open, from the clock after its begin_write. Rules out a write into a world
@@ -328,8 +338,11 @@ module ts_rx_commit #(
     f_exp_accepted <= worlds_accepted + CntW'(sm_commit);
     f_exp_garbage <= garbage_runs + CntW'(rep_valid && rep_garbage);
     f_exp_replayed <= worlds_replayed + CntW'(seq_done && seq_replay);
-    f_exp_rejected <= frames_rejected + CntW'((rep_valid && !rep_garbage) || (f_verdict_drop && !seq_replay));
-    f_exp_dropped <= bytes_dropped + (rep_valid ? rep_bytes : f_verdict_drop ? CntW'(frame_bytes) : CntW'(0));
+    f_exp_rejected <= frames_rejected + (V1 ? CntW'(partial_valid || (word_valid && !word_ok))
+                                            : CntW'((rep_valid && !rep_garbage) || (f_verdict_drop && !seq_replay)));
+    f_exp_dropped <= bytes_dropped + (V1 ? (partial_valid ? CntW'(partial_bytes)
+                                                          : (word_valid && !word_ok) ? CntW'(8) : CntW'(0))
+                                         : (rep_valid ? rep_bytes : f_verdict_drop ? CntW'(frame_bytes) : CntW'(0)));
     f_exp_missing <= worlds_missing + ((seq_done && !seq_replay) ? CntW'(seq_missing) : CntW'(0));
     f_exp_sessions <= sessions + CntW'(seq_done && !seq_replay && seq_new);
   end
@@ -342,8 +355,8 @@ module ts_rx_commit #(
       // copies of scene memory unchanged": scene memory is written only between begin_write and commit
       // (p_sm_protocol here, ts_scene_memory's p_mem_words and p_read_front), begin_write only on an accepted
       // verdict (here), a verdict only two clocks after `intact` (ts_rx_sequence's p_done_after_check), and
-      // `intact` only for a frame whose header checks and CRC passed (ts_rx_frame's p_intact_*). Rules out a
-      // replay, or a world outside the formats, reaching the back copy.
+      // `intact` only for a frame whose header checks and CRC passed (ts_rx_frame's p_intact_checked,
+      // p_header_checked). Rules out a replay, or a world outside the formats, reaching the back copy.
       if (!V1) begin
         p_admit_accepted: assert (admit_copy == f_exp_admit_copy && admit_drop == f_exp_admit_drop
                                   && sm_begin == f_exp_admit_copy);
@@ -356,11 +369,11 @@ module ts_rx_commit #(
       p_overflow_bytes_grows: assert (overflow_bytes == f_exp_overflow);
       p_worlds_replaced_grows: assert (worlds_replaced == f_exp_replaced);
       p_worlds_accepted_grows: assert (worlds_accepted == f_exp_accepted);
+      p_frames_rejected_grows: assert (frames_rejected == f_exp_rejected);
+      p_bytes_dropped_grows: assert (bytes_dropped == f_exp_dropped);
       if (!V1) begin
         p_garbage_runs_grows: assert (garbage_runs == f_exp_garbage);
         p_worlds_replayed_grows: assert (worlds_replayed == f_exp_replayed);
-        p_frames_rejected_grows: assert (frames_rejected == f_exp_rejected);
-        p_bytes_dropped_grows: assert (bytes_dropped == f_exp_dropped);
         p_worlds_missing_grows: assert (worlds_missing == f_exp_missing);
         p_sessions_grows: assert (sessions == f_exp_sessions);
       end

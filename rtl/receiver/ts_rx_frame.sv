@@ -492,4 +492,111 @@ module ts_rx_frame #(
     hcrc_hi_bad_q <= hcrc_car_q != hcrc_calc_q[31:8];
     cut_magic_q <= window_q[215:184] == Magic;
   end
+`ifdef FORMAL
+  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proofs rx_frame_v3, rx_frame_v2). The byte
+  // stream is free (any bytes, at any clock, end_of_stream at any time), and so are the receiver's answers
+  // (admit_drop, admit_copy); only the reset at the start is assumed. These are the decoder's side of the chain
+  // "a frame that fails its CRC or its header check leaves both copies of scene memory unchanged" and the
+  // guarantees ts_rx_commit's contract names: a frame is reported intact only once its header passed every check
+  // and its CRC matched; then it waits, its header held, with no other frame and no report, until the receiver
+  // answers; only an answer to copy starts the copy, which gives exactly its count of records, then copy_done.
+  logic past_valid = 1'b0;
+  always_ff @(posedge clk) past_valid <= 1'b1;
+  initial assume (rst);
+
+  // The header's byte checks as the engine goes over the frame's bytes (docs/link_format.md, "Checks and errors"):
+  // the magic, the version, frac_bits at most 30, both reserved bytes 0 (f_fixed_bad: one failed), and on v3 the
+  // carried header CRC equal to the CRC of bytes 0..23 (f_hcrc_ok), each from the frame's first byte on.
+  logic f_fixed_bad, f_hcrc_ok;
+  wire f_hdr_exec = in_frame_exec && !hdr_ok_q;
+  wire f_fixed_fails = (off_q < OW'(4) && b != magic_byte(off_q[1:0])) ||
+                       (off_q == OW'(ts_link_pkg::VersionAt) && b != Version) ||
+                       (off_q == OW'(ts_link_pkg::FracBitsAt) && b > 8'(ts_link_pkg::MaxFracBits)) ||
+                       (off_q >= OW'(ts_link_pkg::ReservedAt) && off_q < OW'(ts_link_pkg::ReservedEnd) && b != 8'd0);
+  always_ff @(posedge clk) begin
+    if (f_hdr_exec) begin
+      f_fixed_bad <= (off_q != '0 && f_fixed_bad) || f_fixed_fails;
+      if (off_q == '0) f_hcrc_ok <= 1'b0;
+      if (off_q == OW'(H - 1)) f_hcrc_ok <= {hcrc_car_q, b} == hcrc_calc_q;
+    end
+  end
+  // The phase of the frame that was reported intact: waiting for the answer (S_ADMIT), or being copied (S_CBEGIN to
+  // S_CEND), with the records copied so far.
+  wire f_waiting = state_q == S_ADMIT;
+  wire f_copying = state_q == S_CBEGIN || state_q == S_CFETCH || state_q == S_CEXEC || state_q == S_CEND;
+  logic [AW+1:0] f_copied;
+  always_ff @(posedge clk) begin
+    if (state_q == S_CBEGIN) f_copied <= '0;
+    else if (rec_valid && rec_copy) f_copied <= f_copied + 1'b1;
+  end
+
+  always_comb begin
+    if (past_valid) begin
+      // Invariants that make the induction close (each a property).
+      p_state_valid: assert (state_q <= S_CEND && (state_q != S_CAND || Wire == 3));
+      if (!hunting_q && off_q != '0 && (state_q == S_FETCH || state_q == S_EXEC)) begin
+        p_prefix_checked: assert (!f_fixed_bad && (hdr_ok_q || off_q <= OW'(ts_link_pkg::FracBitsAt)
+                                                   || hdr_frac <= 8'(ts_link_pkg::MaxFracBits))
+                                  && (hdr_ok_q || off_q <= OW'(CountCheckAt) || count_q <= Max32));
+      end
+      if (state_q == S_VERDICT || state_q == S_CAND || f_waiting || f_copying) begin
+        p_body_states: assert (hdr_ok_q && !hunting_q);
+      end
+      // In the body the offset lies between the header's end and the frame's; a cut candidate is checked from
+      // offset 56 on, ending at the frame's last byte when the verdict follows it.
+      if (hdr_ok_q && !hunting_q && (state_q == S_FETCH || state_q == S_EXEC)) begin
+        p_body_offset: assert (off_q >= OW'(H) && off_q < fb_q);
+      end
+      if (state_q == S_CAND) begin
+        p_cand_state: assert (cand_cnt_q <= 5'd24 && off_q >= OW'(2 * CutWindow) && off_q <= fb_q
+                              && (!cand_final_q || off_q == fb_q) && (cand_final_q || off_q < fb_q));
+      end
+      if (f_copying && state_q != S_CBEGIN) begin
+        p_copy_progress: assert (f_copied + (AW + 2)'(rec_valid && rec_copy) + (AW + 2)'(left_q)
+                                 == (AW + 2)'(count_q[AW:0])
+                                 && f_copied <= (AW + 2)'(count_q[AW:0]) && left_q <= count_q[AW:0] && sbyte_q < 5'(Rec)
+                                 && (state_q != S_CEND || left_q == '0) && (state_q == S_CEND || left_q != '0));
+      end
+      // The header passed every check: its fixed bytes, its CRC (v3), its count at most MaxSpheres (so hdr_count,
+      // count's low bits, is the whole count), its length exactly count x 24, and the frame's size from them.
+      // Rules out a header error that is not caught, on any byte stream: the count that would let scene memory
+      // be written beyond its capacity, a length believed from a header whose CRC failed.
+      if (hdr_ok_q && !hunting_q) begin
+        p_header_checked: assert (!f_fixed_bad && (Wire == 2 || f_hcrc_ok) && count_q <= Max32
+                                  && length_q == count_q * 32'd24 && count_x24_q == length_q
+                                  && 32'(fb_q) == 32'(H + 4) + length_q && hdr_frac <= 8'(ts_link_pkg::MaxFracBits));
+      end
+      // A verdict is given on the whole frame: every byte of it, its 4 CRC bytes the last, has gone by. Rules out
+      // a CRC compared a byte early or late.
+      if (state_q == S_VERDICT) p_verdict_at_end: assert (off_q == fb_q);
+      // Intact only for a frame whose header passed and whose carried CRC equals the one computed (the verdict's
+      // state, its CRCs equal); it then waits for the answer. Rules out an intact report without the checks.
+      if (intact) p_intact_checked: assert (f_waiting && hdr_ok_q && fcrc_car_q == fcrc_calc_q);
+      // While a frame waits, no other frame and no report; no record of a check pass while it waits or is copied;
+      // a copied record only while it is copied, one of its count. Rules out a verdict that could be taken for
+      // another frame's, or a record written that is not the frame's.
+      if (f_waiting || f_copying) begin
+        p_one_waits: assert (!rep_valid && !(rec_valid && !rec_copy) && !(intact && !f_waiting));
+      end
+      if (rec_valid && rec_copy) p_copy_records: assert (f_copying && f_copied < (AW + 2)'(hdr_count));
+      // copy_done after exactly the frame's count of records.
+      if (copy_done) p_copy_done_count: assert (f_copied == (AW + 2)'(hdr_count));
+    end
+  end
+  always_ff @(posedge clk) begin
+    if (past_valid && !$past(rst)) begin
+      // A frame is admitted to the copy only on admit_copy while it waits (reported intact). Rules out a copy
+      // started by anything but the receiver's answer to this frame.
+      if (f_copying && !$past(f_copying)) p_copy_after_admit: assert ($past(f_waiting && admit_copy));
+      if (f_waiting && !$past(f_waiting)) p_waits_after_intact: assert (intact);
+      // The frame's header and content flags are held from the clock it is reported intact until it is done with
+      // (ts_rx_commit and ts_rx_sequence read them then). Rules out a verdict or a commit on another header's fields.
+      if ((f_waiting || f_copying) && $past(f_waiting || f_copying)) begin
+        p_waits_held: assert (hdr_session == $past(hdr_session) && hdr_sequence == $past(hdr_sequence)
+                              && hdr_count == $past(hdr_count) && hdr_frac == $past(hdr_frac)
+                              && frame_bytes == $past(frame_bytes) && bad_sphere == $past(bad_sphere) && in_body);
+      end
+    end
+  end
+`endif
 endmodule

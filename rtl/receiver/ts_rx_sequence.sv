@@ -108,4 +108,114 @@ module ts_rx_sequence #(
       if (v_retire) retired_q[retired_next_q] <= cur_session_q;
     end
   end
+`ifdef FORMAL
+  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proofs rx_sequence_v3, rx_sequence_v2): the
+  // verdict is the table of docs/link_format.md ("Sessions and sequence numbers") for any session and number,
+  // hostile ones included, and the rules' state moves only with a world shown. The inputs are free; the verdict
+  // properties hold while they have kept the block's contract (f_ok), which ts_rx_frame keeps (a frame's header
+  // fields are held while it waits for the verdict, p_waits_held, and no other frame is reported meanwhile,
+  // p_one_waits).
+  logic past_valid = 1'b0;
+  always_ff @(posedge clk) past_valid <= 1'b1;
+  initial assume (rst);
+
+  // The contract: no check in the clock after a check (while it is compared), session and number held then.
+  // f_ok: kept so far, this clock included.
+  logic f_in_ok;
+  logic [31:0] f_held_session, f_held_number;
+  wire f_ok = f_in_ok && !(cmp_q && (check || session != f_held_session || number != f_held_number));
+  always_ff @(posedge clk) begin
+    if (rst) f_in_ok <= 1'b1;
+    else f_in_ok <= f_ok;
+    if (check) begin
+      f_held_session <= session;
+      f_held_number <= number;
+    end
+  end
+
+  // "One of the last 16 sessions that ended", for one session the solver picks (so for every session), f_s:
+  // whether it ended (it was the current session and a world of another session was shown) and how many sessions
+  // began since (up to 16: then it is forgotten). The block's current session and last number (seen_q,
+  // cur_session_q, last_q) are the table's "current one" and p: p_state_* below hold them to the worlds shown.
+  /* verilator lint_off UNDRIVEN */  // a free value of the proof: the solver picks it, once
+  (* anyconst *) logic [31:0] f_s;
+  /* verilator lint_on UNDRIVEN */
+  logic f_s_ended;
+  logic [4:0] f_s_since;
+  wire f_s_retired = f_s_ended && f_s_since < 5'(ts_link_pkg::RetiredSessions);  // (the package's 16, not Ring)
+  wire f_begins = cmp_q && v_new;  // a world shown begins a session (v3: another session's; v2: the first)
+  always_ff @(posedge clk) begin
+    if (rst) begin
+      f_s_ended <= 1'b0;
+      f_s_since <= '0;
+    end else if (f_begins) begin
+      if (f_held_session == f_s) f_s_ended <= 1'b0;
+      else if (seen_q && cur_session_q == f_s) f_s_ended <= 1'b1;
+      if (seen_q && cur_session_q == f_s) f_s_since <= '0;
+      else if (seen_q && f_s_ended && f_s_since != 5'(ts_link_pkg::RetiredSessions)) begin
+        f_s_since <= f_s_since + 5'd1;  // another session ends after f_s
+      end
+    end
+  end
+  // Where f_s sits in the ring while it is remembered, and whether another valid slot holds it.
+  wire [$clog2(Ring)-1:0] f_s_slot = retired_next_q - 4'd1 - f_s_since[3:0];
+  logic f_s_elsewhere;
+  always_comb begin
+    f_s_elsewhere = 1'b0;
+    for (int i = 0; i < Ring; i++) begin
+      f_s_elsewhere = f_s_elsewhere | (retired_v_q[i] && retired_q[i] == f_s && 4'(i) != f_s_slot);
+    end
+  end
+
+  // The table, for the frame being compared (cmp_q): its session and number as they were at the check, p = last_q.
+  wire f_same = seen_q && f_held_session == cur_session_q;
+  wire f_newer = f_held_number > last_q;
+  wire [31:0] f_from_one = (f_held_number == 32'd0) ? 32'd0 : f_held_number - 32'd1;  // s - 1 (0 for 0)
+  always_comb begin
+    if (past_valid && cmp_q && f_ok) begin
+      if (Wire == 2) begin
+        // v2: every world is shown; a step forward counts the numbers between; the first world begins a session.
+        p_verdict_v2: assert (!v_replay && v_new == !seen_q
+                              && v_missing == ((seen_q && f_newer) ? f_held_number - last_q - 32'd1 : 32'd0));
+      end else if (f_same) begin
+        // The current session: shown only if s > p, with s - p - 1 missing; s <= p is a replay. So an older or
+        // repeated number is never shown. Rules out wrap-around and equal-number mistakes the tests' numbers miss.
+        p_verdict_current: assert (v_replay == !f_newer && !v_new
+                                   && (!f_newer || v_missing == f_held_number - last_q - 32'd1));
+      end else if (f_held_session == f_s) begin
+        // Another session: a replay if it is one of the last 16 that ended, else shown as a new session with
+        // s - 1 missing. Rules out showing a world of an ended session, or refusing a restarted host.
+        p_verdict_other: assert (v_replay == f_s_retired
+                                 && (f_s_retired || (v_new && v_missing == f_from_one)));
+      end
+    end
+    if (past_valid && Wire == 3 && f_in_ok) begin
+      // Invariants that make the induction close (each a property): the ring holds f_s, at its place and nowhere
+      // else, exactly while it is one of the last 16 ended sessions; the current session is not an ended one.
+      p_ring_holds_ended: assert (!f_s_elsewhere
+                                  && (retired_v_q[f_s_slot] && retired_q[f_s_slot] == f_s) == f_s_retired);
+      p_current_not_ended: assert (!(seen_q && cur_session_q == f_s && f_s_ended)
+                                   && f_s_since <= 5'(ts_link_pkg::RetiredSessions)
+                                   && (seen_q || (retired_v_q == '0 && !f_s_ended)));
+    end
+  end
+  always_ff @(posedge clk) begin
+    if (past_valid && !$past(rst)) begin
+      // A verdict two clocks after each check and at no other time, as registered. Rules out a verdict without a
+      // frame that ts_rx_frame reported intact (a link of the chain in ts_rx_commit).
+      p_done_after_check: assert (done == $past(cmp_q) && cmp_q == $past(check));
+      if (done) p_verdict_registered: assert (replay == $past(v_replay) && new_session == $past(v_new)
+                                              && missing == $past(v_missing));
+      // The rules' state moves only with a world shown, to that world's session and number. Rules out a replay
+      // that moves p (so that the next world of the session is refused, or an old one let through).
+      if ($past(cmp_q && !v_replay)) begin
+        if ($past(f_ok)) p_state_shown: assert (seen_q && last_q == $past(f_held_number)
+                                                && (Wire == 2 || cur_session_q == $past(f_held_session)));
+      end else begin
+        p_state_holds: assert (seen_q == $past(seen_q) && last_q == $past(last_q)
+                               && (Wire == 2 || cur_session_q == $past(cur_session_q)));
+      end
+    end
+  end
+`endif
 endmodule

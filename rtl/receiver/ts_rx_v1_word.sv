@@ -99,4 +99,45 @@ module ts_rx_v1_word #(
     end
   end
   /* verilator lint_on UNUSEDSIGNAL */
+`ifdef FORMAL
+  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proof rx_v1_word). The byte stream is free.
+  logic past_valid = 1'b0;
+  always_ff @(posedge clk) past_valid <= 1'b1;
+  initial assume (rst);
+
+  // The bytes of the current word so far, counted from the stream's start and from each end_of_stream (which
+  // drops a partial word; a byte in the same clock comes first), and the clocks since the last word (up to 8).
+  logic [3:0] f_bytes, f_since_word;
+  always_ff @(posedge clk) begin
+    if (rst) begin
+      f_bytes <= '0;
+      f_since_word <= 4'd8;
+    end else begin
+      if (end_of_stream) f_bytes <= '0;
+      else if (byte_valid) f_bytes <= (f_bytes == 4'd7) ? 4'd0 : f_bytes + 4'd1;
+      f_since_word <= word_valid ? 4'd1 : (f_since_word == 4'd8) ? 4'd8 : f_since_word + 4'd1;
+    end
+  end
+  always_comb begin
+    if (past_valid) begin
+      // Invariant that makes the induction close: the block's count of the word's bytes is the stream's.
+      p_filled_counts: assert (4'(filled_q) == f_bytes && f_bytes <= 4'd7
+                               && (f_since_word >= 4'(filled_q) || f_since_word == 4'd8));
+    end
+  end
+  always_ff @(posedge clk) begin
+    if (past_valid && !$past(rst)) begin
+      // A word comes the clock after its eighth byte, every 8 bytes of the stream, and never within 8 clocks of
+      // the last (ts_rx_commit's contract for v1, f_v1_ok); a partial word only at end_of_stream with its 1 to 7
+      // bytes, never with a word. Rules out a word assembled across an end of stream, or from 7 or 9 bytes.
+      p_word_at_eighth_byte: assert (word_valid == $past(byte_valid && f_bytes == 4'd7));
+      if (word_valid) p_word_spacing: assert ($past(f_since_word) >= 4'd7 && !partial_valid);
+      p_partial_at_end: assert (partial_valid
+                                == $past(end_of_stream && (byte_valid ? f_bytes != 4'd7 : f_bytes != 4'd0)));
+      if (partial_valid) begin
+        p_partial_bytes: assert (partial_bytes != 3'd0 && 4'(partial_bytes) == $past(f_bytes + 4'(byte_valid)));
+      end
+    end
+  end
+`endif
 endmodule

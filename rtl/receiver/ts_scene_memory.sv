@@ -158,9 +158,9 @@ module ts_scene_memory #(
     assign rd_albedo[p*24+:24] = rd_word[p][X_W+Y_W+Z_W+R_W+1+:24];
   end
 `ifdef FORMAL
-  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proof scene_memory). Every input is free. The
-  // properties that need the receiver to keep the write protocol hold while it has kept it (f_proto_ok, below),
-  // which ts_rx_commit guarantees (its p_sm_*); nothing is assumed but the reset at the start.
+  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proofs scene_memory, scene_memory_odd). Every
+  // input is free. The properties that need the receiver to keep the write protocol hold while it has kept it
+  // (f_proto_ok, below), which ts_rx_commit guarantees (its p_sm_protocol); nothing is assumed but the reset.
   logic past_valid = 1'b0;
   always_ff @(posedge clk) past_valid <= 1'b1;
   initial assume (rst);
@@ -169,7 +169,7 @@ module ts_scene_memory #(
   // open (from the clock after its begin_write), and the commit closes it. f_proto_ok falls for good at a breach.
   // f_back_complete / f_front_complete: the back / front copy holds a whole world, committed after its last
   // begin_write and not written since. f_unshown: an accepted world (begun, or committed) no swap has shown yet.
-  // (One bit per role rather than per bank: z3 4.8 is far slower on the variable-index form.)
+  // (One bit per role rather than a bit per bank with a variable index: z3 4.8 was far slower on that.)
   // f_waiting: a committed world waits for the swap (not shown, not overwritten); f_swap: the specification's swap,
   // in a clock of vertical blanking while a world waits. (The bank bits follow the block's own swap, front_sel's.)
   logic f_open, f_proto_ok, f_back_complete, f_front_complete, f_unshown, f_waiting;
