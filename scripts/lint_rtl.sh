@@ -2,7 +2,7 @@
 # Lints every module of rtl/ as a top, with its default parameters, the way the tests and synthesis read it
 # (docs/rtl.md, "Lint"):
 #   - Verilator 5.006 --lint-only -Wall, as synthesis reads the module, and each proof's top with its formal
-#     properties (+define+FORMAL) and the proof's parameters (rtl/*/proofs.tsv);
+#     properties (+define+FORMAL) and the proof's parameters (scripts/prove.sh --list);
 #   - Yosys 0.23 read_verilog -sv (and -formal) of every source, then hierarchy -check of each module as the top;
 #   - every Verilator waiver (lint_off) says why, in a comment on its line, the line before, or before its lint_on.
 # Prints each warning as the tool does, then one summary line; exit 0 when nothing was found, 1 otherwise, 2 when a
@@ -44,14 +44,15 @@ done
 # The formal properties as scripts/prove.sh reads them: each proof's top, with the proof's parameters. (A module's
 # properties are read only when it is a proof's top; some name signals of one generate branch, e.g. ts_sqrt_unit's
 # pipelined stages, which Verilator cannot resolve in an instance that elaborates the other.)
-while IFS=$'\t' read -r kind _ top _ _ _ _ params; do
+listing=$(scripts/prove.sh --list) || exit 2
+while IFS=$'\t' read -r kind _ top _ _ params; do
   [ "$kind" = proof ] || continue
   args=(+define+FORMAL)
   if [ "$params" != - ]; then
     for p in $params; do args+=("-G$p"); done
   fi
   verilator_lint "$top" "${args[@]}"
-done < <(cat rtl/*/proofs.tsv)
+done <<< "$listing"
 
 script=""
 for m in "${modules[@]}"; do

@@ -10,7 +10,9 @@
 #   scripts/prove.sh --planted [PROOF...]    each proof's planted violations: a copy of the RTL with one change
 #                                            (a sed expression) that the named property must catch; prints caught
 #                                            (with the trace) or MISSED
-#   scripts/prove.sh --list                  the proofs and planted violations, one per line
+#   scripts/prove.sh --list                  the proofs and planted violations, one a line, tab-separated:
+#                                            proof NAME TOP DEPTH MODE PARAMS, plant NAME PROPERTY FILE (how
+#                                            proofs_test and scripts/lint_rtl.sh read the manifests)
 #
 # The proofs live beside their blocks, in rtl/<block>/proofs.tsv, tab-separated, one row each:
 #   proof  NAME  TOP  DEPTH  DEEP_DEPTH  MODE  SOURCES  PARAMS
@@ -46,12 +48,15 @@ while [ $# -gt 0 ]; do
 done
 wanted=("$@")
 
-for tool in yosys yosys-smtbmc z3; do
-  if ! command -v "$tool" >/dev/null; then
-    echo "$tool is missing: apt-get install yosys z3" >&2
-    exit 2
-  fi
-done
+# --list reads the manifests alone; the proofs need the tools.
+if [ "$action" != list ]; then
+  for tool in yosys yosys-smtbmc z3; do
+    if ! command -v "$tool" >/dev/null; then
+      echo "$tool is missing: apt-get install yosys z3" >&2
+      exit 2
+    fi
+  done
+fi
 
 root=${FORMAL_BUILD_DIR:-build/formal}
 mkdir -p "$root"
@@ -104,11 +109,11 @@ selected() {
 
 if [ "$action" = list ]; then
   for p in "${proofs[@]}"; do
-    selected "$p" && printf 'proof  %-22s %-18s depth %-4s %s\n' "$p" "${top[$p]}" "${depth[$p]}" "${mode[$p]}"
+    selected "$p" && printf 'proof\t%s\t%s\t%s\t%s\t%s\n' "$p" "${top[$p]}" "${depth[$p]}" "${mode[$p]}" "${params[$p]}"
   done
   for p in "${plants[@]}"; do
     IFS=$'\t' read -r _ name prop file _ <<< "$p"
-    selected "$name" && printf 'plant  %-22s %-28s %s\n' "$name" "$prop" "$file"
+    selected "$name" && printf 'plant\t%s\t%s\t%s\n' "$name" "$prop" "$file"
   done
   exit 0
 fi
