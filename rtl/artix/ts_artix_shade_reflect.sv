@@ -99,7 +99,8 @@ module ts_artix_shade_reflect #(
     output logic [TAG_W-1:0]                         out_ray_tag,
     output logic                                     out_colour_valid,
     output logic [11:0]                              out_colour,
-    output logic [TAG_W-1:0]                         out_colour_tag
+    output logic [TAG_W-1:0]                         out_colour_tag,
+    output logic                                     busy         // an event's channel in the pipeline, or an output valid
 );
   localparam int OriginW = ts_artix_pkg::OriginW;
   localparam int DirW = ts_artix_pkg::DirW;
@@ -544,4 +545,9 @@ module ts_artix_shade_reflect #(
   assign out_ray_tint = ray_tint_q;
   assign out_ray_bounces = ray_bounces_q;
   assign out_ray_tag = ray_tag_q;
+
+  // Busy: a register here may change at the next clock edge only while an event is on its way (its channels in the
+  // stages, or still to be taken from chan1_q, chan2_q) or an output is valid (it falls at that edge); otherwise
+  // every register holds or reloads a value no output is read with (the delays' words and pointers included).
+  assign busy = |v_q || sel1_q || sel2_q || colour_valid_q || ray_valid_q;
 endmodule

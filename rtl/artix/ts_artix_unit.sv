@@ -35,6 +35,14 @@
 // The window. `start` is the window's first cycle: the unit takes its first pass in it, with the directions
 // written for this row (two banks: `dir_we` writes the next row's while this one is read). `flush` is the
 // window's last cycle: a colour due in it is still written, everything else in flight is dropped after it.
+//
+// The clock. Everything here but the direction banks' write port runs on a gated clock (ts_artix_clock_gate, a
+// BUFGCE): it has an edge in the cycles of `start`, `flush` and reset, and while the unit has work, that is while a
+// pass issues or its camera rays are not all taken, a slot is at stage 1 or 2, a pass is in flight (its record is
+// queued from its first slot to its hit, so the sphere unit holds no slot of any other), a reflected ray waits,
+// or the shading block is busy. In any other cycle no register of the unit would change but to a value nothing reads
+// before the next of those events: the unit's outputs and schedule are the same, and an idle unit costs neither
+// power nor simulation time (docs/rtl.md, "The artix device").
 module ts_artix_unit #(
     parameter int N = 12,  // units
     localparam int Slots = (ts_artix_pkg::LineWidth + N - 1) / N,  // the busiest unit's pixels a line
@@ -104,6 +112,10 @@ module ts_artix_unit #(
     logic [3*TintW-1:0]    tint;
   } state_t;
 
+  // ---- the clock (see The clock) ------------------------------------------------------------------------------
+  logic gclk, work, shade_busy;
+  ts_artix_clock_gate gate (.clk, .en(rst || start || flush || work), .gclk);
+
   // ---- the queue of reflected rays --------------------------------------------------------------------------
   logic   refl_valid;  // from the shading and reflection block: a reflected ray, known in this cycle
   state_t refl_state;
@@ -112,7 +124,7 @@ module ts_artix_unit #(
   logic   waiting;     // a reflected ray may be taken this cycle
   state_t waiting_state;
   ts_artix_fifo #(.W(StateW), .DEPTH(32)) queue (
-      .clk, .rst, .clear(flush),
+      .clk(gclk), .rst, .clear(flush),
       .push(refl_valid && !(queue_empty && queue_pop)), .push_data(refl_state),
       .pop(queue_pop && !queue_empty), .front(queue_front), .empty(queue_empty), .overflow(queue_overflow)
   );
@@ -160,7 +172,7 @@ module ts_artix_unit #(
   assign tile     = busy_q ? tile_q : 5'((start ? unit_id : next_col_q) >> TileShift);
   assign tile_pos = slot[SphereAW-1:0];
 
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (rst || flush) begin
       run_q     <= 1'b0;
       busy_q    <= 1'b0;
@@ -190,10 +202,9 @@ module ts_artix_unit #(
   // ---- directions: two banks of the unit's pixels ------------------------------------------------------------
   logic [3*DirW-1:0] dirs [2 * (1 << SlotW)];
   logic [3*DirW-1:0] dir1_q;
-  always_ff @(posedge clk) begin
-    if (dir_we) dirs[{!dir_bank, dir_slot}] <= dir_d;
-    dir1_q <= dirs[{dir_bank, camera_k}];
-  end
+  // The write port runs on the device's clock: the camera writes whether or not the unit is busy.
+  always_ff @(posedge clk) if (dir_we) dirs[{!dir_bank, dir_slot}] <= dir_d;
+  always_ff @(posedge gclk) dir1_q <= dirs[{dir_bank, camera_k}];
 
   // ---- stage 1: the slot's sphere ---------------------------------------------------------------------------
   logic            s1_valid_q, s1_first_q, s1_end_q, s1_camera_q;
@@ -205,7 +216,7 @@ module ts_artix_unit #(
   logic            s1_pair;
   logic [SphereAW-1:0] s1_sphere;
 
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (rst || flush) s1_valid_q <= 1'b0;
     else s1_valid_q <= busy_q || take_reflected || take_camera;
     s1_first_q  <= !busy_q;
@@ -233,7 +244,7 @@ module ts_artix_unit #(
       end
     end
   end
-  always_ff @(posedge clk) if (s1_valid_q) pass_q <= s1_pass;
+  always_ff @(posedge gclk) if (s1_valid_q) pass_q <= s1_pass;
 
   // The slot's sphere and whether it is a pair: a camera slot i tests entry i of its list while i < count (the
   // count is the port's output for the pass's first slot, count_q after); a reflected slot i sphere i, unless the
@@ -250,7 +261,7 @@ module ts_artix_unit #(
   logic [SphereAW-1:0] s2_sphere_q;
   logic [3*ts_artix_pkg::OriginW-1:0] s2_o_q;
   logic [3*DirW-1:0]   s2_d_q;
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (rst || flush) s2_valid_q <= 1'b0;
     else s2_valid_q <= s1_valid_q;
     s2_first_q  <= s1_first_q;
@@ -267,7 +278,7 @@ module ts_artix_unit #(
   logic   hit_valid;
 
   ts_artix_fifo #(.W(StateW), .DEPTH(32)) in_flight (
-      .clk, .rst, .clear(flush),
+      .clk(gclk), .rst, .clear(flush),
       .push(s1_valid_q && s1_first_q), .push_data(s1_pass),
       .pop(hit_valid), .front(flight_front), .empty(flight_empty), .overflow(flight_overflow)
   );
@@ -280,7 +291,7 @@ module ts_artix_unit #(
   logic [ExpW-1:0]                     hit_e;
   logic [CarryW-1:0]                   hit_carry;
   ts_artix_sphere_unit #(.CARRY_W(CarryW)) unit (
-      .clk, .rst(rst || flush),
+      .clk(gclk), .rst(rst || flush),
       .in_first(s2_valid_q && s2_first_q), .in_pair(s2_valid_q && s2_pair_q), .in_end(s2_valid_q && s2_end_q),
       .in_o(s2_o_q), .in_d(s2_d_q),
       .in_c(sphere_c), .in_e(sphere_e), .in_r2s(sphere_r2s),
@@ -306,7 +317,7 @@ module ts_artix_unit #(
   logic [1:0]           refl_bounces;
   logic [3*TintW-1:0]   refl_tint;
   ts_artix_shade_reflect #(.TAG_W(TagW)) shade (
-      .clk, .rst(rst || flush),
+      .clk(gclk), .rst(rst || flush),
       .in_valid(hit_valid), .in_o(flight_front.o), .in_d(flight_front.d),
       .in_hit(hit), .in_bd(hit_bd), .in_f(hit_f), .in_s(hit_s), .in_td(hit_td),
       .in_e(hit_e), .in_r(hit_r), .in_rinv(hit_rinv), .in_metal(hit_metal),
@@ -315,7 +326,7 @@ module ts_artix_unit #(
       .in_bounces(flight_front.bounces), .in_tint(flight_front.tint), .in_tag({flight_front.k, hit_index}),
       .out_ray_valid(refl_valid), .out_ray_o(refl_o), .out_ray_d(refl_d), .out_ray_bounces(refl_bounces),
       .out_ray_tint(refl_tint), .out_ray_tag(refl_tag),
-      .out_colour_valid(colour_valid), .out_colour(colour), .out_colour_tag(colour_tag)
+      .out_colour_valid(colour_valid), .out_colour(colour), .out_colour_tag(colour_tag), .busy(shade_busy)
   );
   always_comb begin
     refl_state.k       = refl_tag[TagW-1-:SlotW];
@@ -327,15 +338,18 @@ module ts_artix_unit #(
     refl_state.tint    = refl_tint;
   end
 
+  assign work = busy_q || (run_q && next_col_q < 10'(ts_artix_pkg::LineWidth)) || s1_valid_q || s2_valid_q
+                || !flight_empty || !queue_empty || shade_busy;
+
   assign px_we     = colour_valid;
   assign px_slot   = colour_tag[TagW-1-:SlotW];
   assign px_colour = colour;
   assign overflow  = queue_overflow || flight_overflow;
 
-  // Not needed: the colour's sphere index (the tag's low bits are the reflection's); the in-flight queue's
-  // emptiness (a hit always has its pass's record); the sphere a pass's ray left (the hit's sphere is the next).
+  // Not needed: the colour's sphere index (the tag's low bits are the reflection's); the sphere a pass's ray left
+  // (the hit's sphere is the next).
   /* verilator lint_off UNUSEDSIGNAL */
   logic unused;
-  assign unused = ^colour_tag[SphereAW-1:0] ^ flight_empty ^ flight_front.leaves ^ ^flight_front.left;
+  assign unused = ^colour_tag[SphereAW-1:0] ^ flight_front.leaves ^ ^flight_front.left;
   /* verilator lint_on UNUSEDSIGNAL */
 endmodule
