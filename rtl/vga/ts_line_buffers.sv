@@ -139,4 +139,126 @@ module ts_line_buffers #(
   logic [12:0] word;
   assign word    = sel_front_q ? q_buf1[sel_bank_q*13+:13] : q_buf0[sel_bank_q*13+:13];
   assign rd_data = word[12] ? word[11:0] : 12'h000;
+`ifdef FORMAL
+  // Properties (docs/rtl.md, "Proofs"), proven by scripts/prove.sh (proofs line_buffers, line_buffers_odd,
+  // line_buffers_one). Every
+  // input is free. The properties about what the VGA block reads hold while the reader has kept its side
+  // (f_reader_ok, below), which ts_vga_timing does (its proven counters: rd_en at phase 0 of columns 0..639 and
+  // swap at phase 3 of column 799, from column 0 after the reset); nothing is assumed but the reset.
+  logic past_valid = 1'b0;
+  always_ff @(posedge clk) past_valid <= 1'b1;
+  initial assume (rst);
+
+  // The reader's side: 640 reads between two swaps (and from the reset to the first), none in a swap's cycle.
+  // f_reader_ok falls for good at a breach. f_reads_q: the reads since the last swap (the column read next);
+  // f_front_q: the buffer shown, 0 from the reset, the other after each swap (f_swapped_q: a swap a cycle ago);
+  // f_rd_q: a read in the previous cycle, of column f_rd_col_q of buffer f_rd_buf_q (its slot turns black in this
+  // cycle).
+  logic       f_reader_ok, f_front_q, f_rd_q, f_rd_buf_q, f_swapped_q;
+  logic [9:0] f_reads_q, f_rd_col_q;
+  always_ff @(posedge clk) begin
+    if (rst) begin
+      f_reader_ok <= 1'b1;
+      f_front_q   <= 1'b0;
+      f_reads_q   <= 10'd0;
+      f_rd_q      <= 1'b0;
+      f_swapped_q <= 1'b0;
+    end else begin
+      if ((rd_en && (swap || f_reads_q == 10'd640)) || (swap && f_reads_q != 10'd640)) f_reader_ok <= 1'b0;
+      if (swap) f_front_q <= !f_front_q;
+      f_reads_q <= swap ? 10'd0 : f_reads_q + 10'(rd_en);
+      f_rd_q    <= rd_en;
+      f_swapped_q <= swap;
+    end
+    f_rd_col_q <= f_reads_q;
+    f_rd_buf_q <= f_front_q;
+  end
+
+  // Three columns tracked in each buffer: the first (bank 0, slot 0), the last bank's first (N - 1) and the last
+  // (639), a ghost of each: what its slot holds for the VGA block, unknown after the reset (0), black (1: read and
+  // so cleared since the controller last wrote it) or a colour written by the controller while the buffer was
+  // the back one (2, f_colour). (Three fixed columns rather than a free one: the banks are memories, and a
+  // solver-chosen address into them is slower.)
+  localparam int Tracked = 3;
+  logic [2*Tracked-1:0] f_holds_ok, f_black_ok, f_colour_ok, f_swept_ok;
+  for (genvar b = 0; b < 2; b++) begin : f_buffer
+    for (genvar j = 0; j < Tracked; j++) begin : f_column
+      localparam int C = j == 0 ? 0 : j == 1 ? N - 1 : 639;
+      localparam int Bank = C % N, Slot = C / N;
+      logic [12:0] f_word;  // the slot's memory word
+      if (BLOCK_RAM != 0) begin : f_block
+        assign f_word = g_buffer[b].g_bank[Bank].g_block.mem[Slot];
+      end else begin : f_auto
+        assign f_word = g_buffer[b].g_bank[Bank].g_auto.mem[Slot];
+      end
+      logic [1:0]  f_state_q;
+      logic [11:0] f_colour_q;
+      logic [12:0] f_word_q;     // the word a cycle ago
+      logic        f_was_front;  // the buffer was the front one a cycle ago
+      logic        f_check_q;    // the column was read from this buffer a cycle ago, in state f_seen_q
+      logic [1:0]  f_seen_q;
+      logic [11:0] f_seen_colour_q;
+      wire f_written = wr_en[Bank] && wr_slot[Bank*SlotW+:SlotW] == SlotW'(Slot) && f_front_q != 1'(b);
+      wire f_cleared = f_rd_q && f_rd_buf_q == 1'(b) && f_rd_col_q == 10'(C);
+      always_ff @(posedge clk) begin
+        if (rst) begin
+          f_state_q <= 2'd0;
+          f_check_q <= 1'b0;
+        end else begin
+          if (f_written) begin
+            f_state_q  <= 2'd2;
+            f_colour_q <= wr_colour[Bank*12+:12];
+          end else if (f_cleared) begin
+            f_state_q <= 2'd1;
+          end
+          f_check_q <= rd_en && f_front_q == 1'(b) && f_reads_q == 10'(C);
+        end
+        f_seen_q        <= f_state_q;
+        f_seen_colour_q <= f_colour_q;
+        f_word_q        <= f_word;
+        f_was_front     <= !rst && f_front_q == 1'(b);
+      end
+      localparam int K = b * Tracked + j;
+      // The front buffer's word changes only to black (a clear): the controller never writes it.
+      assign f_holds_ok[K] = !f_was_front || f_word == f_word_q || !f_word[12];
+      // A slot cleared since the controller last wrote it holds black, and a read of it returns black; ...
+      assign f_black_ok[K] = (f_state_q != 2'd1 || !f_word[12])
+                             && (!f_check_q || f_seen_q != 2'd1 || rd_data == 12'h000);
+      // ... a slot written holds the colour, and a read of it returns the colour.
+      assign f_colour_ok[K] = (f_state_q != 2'd2 || f_word == {1'b1, f_colour_q})
+                              && (!f_check_q || f_seen_q != 2'd2 || rd_data == f_seen_colour_q);
+      // A front buffer's column read this line is black (cleared the cycle after its read), so a buffer becomes
+      // the back one black.
+      assign f_swept_ok[K] = (f_front_q != 1'(b) || f_reads_q <= 10'(C) || f_state_q == 2'd1
+                              || (f_rd_q && f_rd_col_q == 10'(C) && f_rd_buf_q == 1'(b)))
+                             && (!f_swapped_q || f_front_q == 1'(b) || f_state_q == 2'd1);
+    end
+  end
+
+  always_comb begin
+    if (past_valid) begin
+      // The front buffer is never written: the words of the buffer shown change only to black, whatever comes
+      // on the ports. Rules out a colour written into the line on screen (a write port routed to the front).
+      p_front_holds: assert (&f_holds_ok);
+      // The buffer shown (invariant).
+      p_front_tracks: assert (front_q == f_front_q);
+      if (f_reader_ok) begin
+        // A late pixel shows black: the slot read in the previous cycle is the one cleared in this one, a slot
+        // cleared and not written since holds black, and reads black. With p_swept, a slot the controller did
+        // not write while its buffer was the back one reads black (from the second swap after the reset on,
+        // when both buffers have been swept). Rules out a slot not cleared after its read, or another cleared.
+        p_late_black: assert (&f_black_ok && clr_q == f_rd_q
+                              && (!f_rd_q || (32'(clr_slot_q) * N + 32'(clr_bank_q) == 32'(f_rd_col_q)
+                                              && 32'(clr_bank_q) < N)));
+        // A slot the controller wrote holds and reads the colour written, and the reads go through the columns
+        // in order from 0 after each swap. Rules out a read of the wrong bank, slot or buffer, a colour lost.
+        p_read_colour: assert (&f_colour_ok && f_reads_q <= 10'd640
+                               && (f_reads_q == 10'd640
+                                   || (32'(rd_slot_q) * N + 32'(rd_bank_q) == 32'(f_reads_q) && 32'(rd_bank_q) < N)));
+        // Each buffer becomes the back one all black (the VGA block swept it while it was shown).
+        p_swept: assert (&f_swept_ok);
+      end
+    end
+  end
+`endif
 endmodule
