@@ -11,7 +11,9 @@
 //
 // Timing: a pixel at the ports with in_valid in cycle t comes out with out_valid in cycle t + Latency (11), with
 // the in_tag it came with; one pixel a cycle, any pattern of gaps. col must be 0..639 and row 0..479 when in_valid
-// (the tables are not defined beyond); what the ports hold without in_valid is ignored.
+// (the tables are not defined beyond); what the ports hold without in_valid is ignored. The block runs on a gated
+// clock (ts_artix_clock_gate) with an edge only while a pixel is at the ports or in the pipeline, or in reset: it
+// works 640 cycles of a line's 3,200.
 //
 // Pipeline (stage k's registers hold a pixel k + 1 cycles after it was at the ports):
 //   0   x, y and |x|, |y|                                       |x| <= 320, |y| <= 240: 9 bits
@@ -102,9 +104,11 @@ module ts_artix_camera #(
     for (int i = 0; i < SeedEntries; i++) seed_rom[i] = seed_of(SeedFirst + i);
   end
 
-  // ---- valid bits: the only state with a reset -----------------------------------------------------------------
+  // ---- valid bits: the only state with a reset; the clock -------------------------------------------------------
   logic [Latency-1:0] valid_q;
-  always_ff @(posedge clk) begin
+  logic               gclk;
+  ts_artix_clock_gate gate (.clk, .en(rst || in_valid || |valid_q), .gclk);
+  always_ff @(posedge gclk) begin
     if (rst) valid_q <= '0;
     else valid_q <= {valid_q[Latency-2:0], in_valid};
   end
@@ -114,7 +118,7 @@ module ts_artix_camera #(
   logic signed [YW-1:0] y0_q;
   logic [AbsW-1:0]      ax0_q, ay0_q;
   logic [TAG_W-1:0]     tag0_q;
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     x0_q   <= XW'(in_col) - XW'(PlaneZ);
     y0_q   <= YW'(in_row) - YW'(HalfHeight);
     ax0_q  <= in_col >= 10'(PlaneZ) ? AbsW'(in_col - 10'(PlaneZ)) : AbsW'(10'(PlaneZ) - in_col);
@@ -128,7 +132,7 @@ module ts_artix_camera #(
   (* mem2reg *) logic signed [XW-1:0] x_q [1:8];
   (* mem2reg *) logic signed [YW-1:0] y_q [1:8];
   (* mem2reg *) logic [TAG_W-1:0]     tag_q [1:Latency-1];
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     x_q[1]   <= x0_q;
     y_q[1]   <= y0_q;
     tag_q[1] <= tag0_q;
@@ -142,7 +146,7 @@ module ts_artix_camera #(
   // ---- 1, 2: n = x^2 + y^2 + 320^2 -----------------------------------------------------------------------------
   logic [SquareW-1:0] xx1_q, yy1_q;
   logic [NW-1:0]      n2_q;
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     xx1_q <= square_rom[ax0_q];
     yy1_q <= square_rom[ay0_q];
     n2_q  <= NW'(xx1_q) + NW'(yy1_q) + NW'(PlaneZ * PlaneZ);
@@ -153,14 +157,14 @@ module ts_artix_camera #(
   logic [SeedW-1:0]  seed3_q;
   logic [NW-1:0]     n3_q;
   assign seed_index = SeedAW'(n2_q[NW-1:SeedShift] - (NW - SeedShift)'(SeedFirst));
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     seed3_q <= seed_rom[seed_index];
     n3_q    <= n2_q;
   end
 
   // y0 waits for the Newton step.
   (* mem2reg *) logic [SeedW-1:0] seed_q [4:7];
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     seed_q[4] <= seed3_q;
     for (int s = 5; s <= 7; s++) seed_q[s] <= seed_q[s-1];
   end
@@ -171,7 +175,7 @@ module ts_artix_camera #(
   logic [HalfW-1:0] sq_high5_q;
   logic [LoW-1:0]   lo5_q;
   logic [HiW-1:0]   hi6_q;
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     sq4_q      <= SqW'($signed({1'b0, seed3_q}) * $signed({1'b0, seed3_q}));
     n4_q       <= n3_q;
     lo5_q      <= LoW'($signed({1'b0, n4_q}) * $signed({1'b0, sq4_q[HalfW-1:0]}));
@@ -182,17 +186,17 @@ module ts_artix_camera #(
 
   // ---- 7: h = 3 2^20 - e ---------------------------------------------------------------------------------------
   logic [HW-1:0] h7_q;
-  always_ff @(posedge clk) h7_q <= ThreeHalves - hi6_q[NewtonShift-HalfW+:EW];
+  always_ff @(posedge gclk) h7_q <= ThreeHalves - hi6_q[NewtonShift-HalfW+:EW];
 
   // ---- 8: g = (y0 h) >> 18 -------------------------------------------------------------------------------------
   logic [GProdW-1:0] g_product;
   logic [GW-1:0]     g8_q;
   assign g_product = GProdW'($signed({1'b0, h7_q}) * $signed({1'b0, seed_q[7]}));
-  always_ff @(posedge clk) g8_q <= g_product[StepShift+:GW];
+  always_ff @(posedge gclk) g8_q <= g_product[StepShift+:GW];
 
   // ---- 9: p_k = v_k g + 2^10 -----------------------------------------------------------------------------------
   (* mem2reg *) logic signed [PW-1:0] p9_q [3];
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     p9_q[0] <= PW'(x_q[8] * $signed({1'b0, g8_q})) + PW'(1 << (RoundShift - 1));
     p9_q[1] <= PW'(y_q[8] * $signed({1'b0, g8_q})) + PW'(1 << (RoundShift - 1));
     p9_q[2] <= (PW'(g8_q) << 8) + (PW'(g8_q) << 6) + PW'(1 << (RoundShift - 1));  // 320 g
@@ -204,7 +208,7 @@ module ts_artix_camera #(
   always_comb begin
     for (int k = 0; k < 3; k++) q9[k] = p9_q[k][PW-1:RoundShift];
   end
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     for (int k = 0; k < 3; k++) begin
       if (q9[k] > (PW - RoundShift)'(DirMax)) d10_q[k] <= DirMax;
       else if (q9[k] < -(PW - RoundShift)'(DirMax)) d10_q[k] <= -DirMax;

@@ -5,7 +5,8 @@
 // On the XC7A100T this is a BUFGCE, the global clock buffer with a glitch-free enable (7 Series Clocking Resources,
 // UG472): the gated clock is a global clock of its own, timed against clk by the tools (same source, one buffer
 // each), and a block it clocks draws no dynamic power while it waits. A device has 32 global buffers; the artix
-// device uses one per sphere unit and clk's own. In simulation (Verilator) it is the latch-and-AND gate that a
+// device uses 13: clk's own, one per sphere unit (9), the camera's, the world engine's and the tile builder's. In
+// simulation (Verilator) it is the latch-and-AND gate that a
 // BUFGCE is inside: `en` is taken while clk is low and held while it is high. The gate is also what makes the RTL
 // simulate at the speed of its busy units: Verilator evaluates a block clocked by gclk, its combinational logic
 // included, only at gclk's edges (docs/rtl.md, "The artix device", "Simulation speed").

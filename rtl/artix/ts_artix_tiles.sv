@@ -112,12 +112,20 @@ module ts_artix_tiles #(
   wire build_done;
 
   always_ff @(posedge clk) begin
+    if (rst) read_q <= 1'b0;
+    else if (flip) read_q <= ~read_q;
+  end
+
+  // The builder runs on a gated clock (ts_artix_clock_gate) with an edge only from a build to its end, or in reset:
+  // 10 max(build_count, 1) + 3 cycles a line.
+  logic gclk;
+  ts_artix_clock_gate gate (.clk, .en(rst || build || busy_q), .gclk);
+
+  always_ff @(posedge gclk) begin
     if (rst) begin
       busy_q <= 1'b0;
       issuing_q <= 1'b0;
-      read_q <= 1'b0;
     end else begin
-      if (flip) read_q <= ~read_q;
       if (build && !busy_q) begin
         busy_q <= 1'b1;
         issuing_q <= 1'b1;
@@ -128,7 +136,7 @@ module ts_artix_tiles #(
     end
   end
 
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (build && !busy_q) begin
       copy_q <= front_q;
       row_q <= build_row;
@@ -151,7 +159,7 @@ module ts_artix_tiles #(
   logic [PassW-1:0]     pass1_q;
   logic [SphereAW-1:0]  index1_q;
   logic [BoundsW-1:0]   bounds1_q;
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (rst) v1_q <= 1'b0;
     else v1_q <= issuing_q;
     first1_q <= index_q == '0;
@@ -173,7 +181,7 @@ module ts_artix_tiles #(
   logic                 v2_q, first2_q, last2_q, hit_even2_q, hit_odd2_q;
   logic [PassW-1:0]     pass2_q;
   logic [SphereAW-1:0]  index2_q;
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (rst) v2_q <= 1'b0;
     else v2_q <= v1_q;
     first2_q <= first1_q;
@@ -196,7 +204,7 @@ module ts_artix_tiles #(
   wire [EntryAW-1:0] waddr_odd = {pass2_q, 1'b1, fill_odd[SphereAW-1:0]};
   wire we_lengths = v2_q && last2_q;
   assign build_done = we_lengths && pass2_q == PassW'(Passes - 1);
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (v2_q) begin
       fill_even_q <= length_even;
       fill_odd_q <= length_odd;

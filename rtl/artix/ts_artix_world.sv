@@ -11,6 +11,10 @@
 // `idle` is high when every write received has been prepared; the device swaps a world in only then (a world whose
 // preparation spans a vertical blanking is shown a frame later, as one whose commit spans it: ts_receiver.sv).
 //
+// The queue and the engine run on a gated clock (ts_artix_clock_gate) with an edge only while there is work: a write
+// or a new world at the ports, a sphere queued or being prepared, prepare or cull not yet ready, or reset. They
+// work while a world arrives and sleep the rest of the time; the constants memory is on the device's clock.
+//
 // The constants memory has two copies, the front one read by the units and the back one written, swapped with
 // scene memory (`swap`: the blanking's swap of a pending world). Its read ports (NREAD, one per unit) are
 // registered reads, as scene memory's; each port has its own replica (a simple dual-port block RAM of both copies,
@@ -53,7 +57,7 @@ module ts_artix_world #(
   logic              queue_empty, queue_pop, unused_overflow;
   logic [EntryW-1:0] front;
   ts_artix_fifo #(.W(EntryW), .DEPTH(ts_artix_pkg::MaxSpheres)) queue (
-      .clk, .rst, .clear(begin_write),
+      .clk(gclk), .rst, .clear(begin_write),
       .push(we), .push_data({waddr, wx, wy, wz, wr}),
       .pop(queue_pop), .front, .empty(queue_empty), .overflow(unused_overflow)
   );
@@ -64,6 +68,7 @@ module ts_artix_world #(
   assign {f_addr, f_x, f_y, f_z, f_r} = front;
 
   // ---- the engine: one sphere at a time --------------------------------------------------------------------------
+  logic gclk;
   logic busy_q, const_done_q, bounds_done_q;
   logic [AW-1:0] addr_q;
   logic prep_ready, prep_done, cull_ready, cull_done;
@@ -78,21 +83,25 @@ module ts_artix_world #(
   assign queue_pop = !busy_q && !queue_empty && prep_ready && cull_ready && !begin_write;
 
   ts_artix_prepare prepare (
-      .clk, .rst, .start(queue_pop), .in_r(f_r), .ready(prep_ready),
+      .clk(gclk), .rst, .start(queue_pop), .in_r(f_r), .ready(prep_ready),
       .done(prep_done), .out_e(prep_e), .out_r2s(prep_r2s), .out_rinv(prep_rinv)
   );
   ts_artix_cull cull (
-      .clk, .rst, .start(queue_pop), .ready(cull_ready),
+      .clk(gclk), .rst, .start(queue_pop), .ready(cull_ready),
       .cx(f_x), .cy(f_y), .cz(f_z), .r(f_r),
       .done(cull_done), .empty(cull_empty),
       .col_lo(cull_col_lo), .col_hi(cull_col_hi), .row_lo(cull_row_lo), .row_hi(cull_row_hi)
+  );
+
+  ts_artix_clock_gate gate (
+      .clk, .en(rst || begin_write || we || !queue_empty || busy_q || !prep_ready || !cull_ready), .gclk
   );
 
   // Both results in: the constants into the memory, the bounds to the tile lists, in one cycle.
   logic finish;
   assign finish = busy_q && (const_done_q || prep_done) && (bounds_done_q || cull_done);
 
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (rst) begin
       busy_q        <= 1'b0;
       const_done_q  <= 1'b0;
@@ -115,7 +124,7 @@ module ts_artix_world #(
   logic       b_empty_q;
   logic [9:0] b_col_lo_q, b_col_hi_q;
   logic [8:0] b_row_lo_q, b_row_hi_q;
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (cull_done) begin
       b_empty_q  <= cull_empty;
       b_col_lo_q <= cull_col_lo;
