@@ -6,10 +6,10 @@
 // UG472): the gated clock is a global clock of its own, timed against clk by the tools (same source, one buffer
 // each), and a block it clocks draws no dynamic power while it waits. A device has 32 global buffers; the artix
 // device uses 13: clk's own, one per sphere unit (9), the camera's, the world engine's and the tile builder's. In
-// simulation (Verilator) it is the latch-and-AND gate that a
-// BUFGCE is inside: `en` is taken while clk is low and held while it is high. The gate is also what makes the RTL
-// simulate at the speed of its busy units: Verilator evaluates a block clocked by gclk, its combinational logic
-// included, only at gclk's edges (docs/rtl.md, "The artix device", "Simulation speed").
+// simulation (Verilator) it is the latch-and-AND gate that a BUFGCE is inside: `en` is taken while clk is low and
+// held while it is high. The gate is also what makes the RTL simulate at the speed of its busy blocks: Verilator
+// evaluates a block clocked by gclk, its combinational logic included, only at gclk's edges (docs/rtl.md, "The
+// artix device", "The clocks" and "Simulation speed").
 //
 // `en` must come from registers of clk's or gclk's domain through logic short enough to meet the BUFGCE's CE setup
 // time, and it must be high in every cycle in which a register of the gated block would change.

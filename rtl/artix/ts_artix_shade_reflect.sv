@@ -100,7 +100,7 @@ module ts_artix_shade_reflect #(
     output logic                                     out_colour_valid,
     output logic [11:0]                              out_colour,
     output logic [TAG_W-1:0]                         out_colour_tag,
-    output logic                                     busy         // an event's channel in the pipeline, or an output valid
+    output logic                                     busy         // see Busy, at the end
 );
   localparam int OriginW = ts_artix_pkg::OriginW;
   localparam int DirW = ts_artix_pkg::DirW;

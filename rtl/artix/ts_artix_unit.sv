@@ -145,6 +145,7 @@ module ts_artix_unit #(
   logic              dir_bank_q;  // the direction bank of this row
 
   logic              take, take_reflected, take_camera, last;
+  logic              rays_left;   // camera pixels not yet taken (the counters' column is still in the line)
   logic [IW-1:0]     slot;
   logic              camera;
   logic [SphereAW:0] pass_count;
@@ -157,7 +158,8 @@ module ts_artix_unit #(
   assign dir_bank       = start ? !dir_bank_q : dir_bank_q;
   assign take           = (run_q || start) && !busy_q && !flush;
   assign take_reflected = take && waiting && !start;
-  assign take_camera    = take && !take_reflected && (start || next_col_q < 10'(ts_artix_pkg::LineWidth));
+  assign rays_left      = next_col_q < 10'(ts_artix_pkg::LineWidth);
+  assign take_camera    = take && !take_reflected && (start || rays_left);
   assign queue_pop      = take_reflected;
   assign slot           = busy_q ? slot_q : '0;
   assign camera         = busy_q ? camera_q : take_camera;
@@ -338,8 +340,8 @@ module ts_artix_unit #(
     refl_state.tint    = refl_tint;
   end
 
-  assign work = busy_q || (run_q && next_col_q < 10'(ts_artix_pkg::LineWidth)) || s1_valid_q || s2_valid_q
-                || !flight_empty || !queue_empty || shade_busy;
+  assign work = busy_q || (run_q && rays_left) || s1_valid_q || s2_valid_q || !flight_empty || !queue_empty
+                || shade_busy;
 
   assign px_we     = colour_valid;
   assign px_slot   = colour_tag[TagW-1-:SlotW];

@@ -855,8 +855,7 @@ std::vector<RtlBlock> artix_blocks(const DevicePreset& p, int wire) {
   // ts_artix_device's own: the line's events decoded a cycle ahead (its last two cycles; whether this line and the
   // next work and build) and the row built, the directions' feed to their unit and slot, and the colours written in
   // the window (an adder tree over the units). Per unit: its direction-write decode and its share of the adder tree,
-  // 7 LUTs in Yosys 0.23's mapping of 9 units (the table's device row, 118 LUTs, most of them LUT2; the unit count
-  // the ledger's other terms do not depend on).
+  // 7 LUTs, calibrated on Yosys 0.23's mapping of 9 units (the table's device row: 118 LUTs, most of them LUT2).
   {
     RtlBlock b = named("device");
     const int unit_w = n > 1 ? clog2(n) : 1;
