@@ -245,7 +245,8 @@ void BM_ReprojectField(benchmark::State& state) {
 }
 BENCHMARK(BM_ReprojectField)->Unit(benchmark::kMillisecond);
 
-// The denoiser's three passes over a one-sample picture of field, with the spatial variance estimate.
+// The denoiser over a one-sample picture of field at the window's size: the filter's passes (the default 3, or
+// 1 to 5) with a given variance, or the spatial variance estimate alone (passes 0), on 1 or 2 threads.
 void BM_DenoiseField(benchmark::State& state) {
   const scene::Scene field = *scene::builtin("field");
   const render::PathScene scene(field.spheres);
@@ -256,20 +257,26 @@ void BM_DenoiseField(benchmark::State& state) {
   const core::ImageRgbF pass = render::render_path(scene, camera, s);
   render::Denoiser denoiser;
   render::DenoiseSettings settings;
-  settings.threads = 1;
+  settings.iterations = static_cast<int>(state.range(0));
+  settings.threads = static_cast<int>(state.range(1));
   std::vector<float> variance(pass.pixels.size());
   std::vector<core::Vec3f> out(pass.pixels.size());
-  const bool estimate = state.range(0) != 0;
+  denoiser.estimate_variance({.width = 640, .height = 480, .color = pass.pixels, .variance = {}, .aovs = &aovs},
+                             settings.variance_radius, settings.threads, variance);
   for (auto _ : state) {
-    if (estimate)
+    if (settings.iterations == 0)
       denoiser.estimate_variance({.width = 640, .height = 480, .color = pass.pixels, .variance = {}, .aovs = &aovs},
-                                 settings.variance_radius, 1, variance);
+                                 settings.variance_radius, settings.threads, variance);
     else
       denoiser.denoise({.width = 640, .height = 480, .color = pass.pixels, .variance = variance, .aovs = &aovs}, settings, out);
   }
   state.SetItemsProcessed(state.iterations() * 640 * 480);
 }
-BENCHMARK(BM_DenoiseField)->ArgName("estimate")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DenoiseField)
+    ->ArgNames({"passes", "threads"})
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5}, {1, 2}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 // A whole frame of the window's loop while orbiting (feature buffers, paths, reprojection, variance, filter), one
 // thread; the argument is the row step (paths on one row in that many).

@@ -42,7 +42,7 @@ struct BenchOptions {
   bool json = false;
   bool embree = true;
   std::string scene;     // --scene: one file (or built-in name) instead of the suite
-  std::string mode = "normal";
+  modes::Mode mode = modes::Mode::kNormal;
   int threads = 0;       // --threads: only this count (0: 1 and all)
   std::string preset = "wide";  // --scene with --mode hw
   bool quality = true;           // the suite's path_relmse_field_* figures
@@ -207,8 +207,8 @@ void bench_hw(const BenchOptions& o, Report& r, const std::string& figure, const
               const device::DevicePreset& preset = device::wide_preset()) {
   for (int t : thread_counts(o)) {
     modes::SourceConfig config;
-    config.preset = preset;
-    config.device_threads = t;
+    config.board.preset = preset;
+    config.board.device_threads = t;
     const std::unique_ptr<modes::FrameSource> board = modes::make_frame_source(scene, config);
     double step = 0.5;
     r.add(figure, t, median_rate(o, [&] {
@@ -297,9 +297,9 @@ void bench_path_interactive(const BenchOptions& o, Report& r, const std::string&
   for (int t : thread_counts(o)) {
     frontend::AppConfig config;
     config.scene = sc;
-    config.mode = modes::Mode::kPath;
-    config.threads = t;
-    config.row_step = o.row_step;
+    config.source.mode = modes::Mode::kPath;
+    config.source.threads = t;
+    config.source.row_step = o.row_step;
     frontend::App app(config);
     app.handle({frontend::Input::Kind::kKeyDown, host::Key::kE});
     r.add(figure, t, median_rate(o, [&] { app.advance(1.0 / 60); return 1.0; }), "frames/s");
@@ -407,10 +407,9 @@ void add_bench_command(CLI::App& app, Action& run) {
   cmd->add_flag("--json", o->json, "Print one JSON object (a key per figure, the machine first) instead of the table");
   cmd->add_flag("!--no-embree", o->embree, "Do not measure Embree, even where it is built in");
   add_scene_option(*cmd, o->scene, "measured instead of the suite: loading and BVH build timed apart from the frames");
-  cmd->add_option("--mode", o->mode,
-                  "With --scene: hw (device model, frames/s), normal (primary rays at 640x480, Mrays/s, with Embree) or "
-                  "path (path tracer at the scene's size and depth, Msamples/s, with the path tracer over Embree)")
-      ->capture_default_str();
+  add_mode_option(*cmd, o->mode,
+                  "with --scene: hw (device model, frames/s), normal (primary rays at 640x480, Mrays/s, with Embree) or "
+                  "path (path tracer at the scene's size and depth, Msamples/s, with the path tracer over Embree)");
   cmd->add_option("--threads", o->threads, "Only this many threads (default: 1 and all)")->check(CLI::Range(1, 1024));
   cmd->add_flag("!--no-quality", o->quality, "Suite: skip the path_relmse_field_* figures (the first run renders their references, minutes)");
   cmd->add_option("--cache", o->cache, "Suite: where the references of path_relmse_field_* are kept (empty: not kept)")
@@ -430,7 +429,7 @@ void add_bench_command(CLI::App& app, Action& run) {
     const bool preset_given = cmd->count("--preset") > 0;
     const bool row_step_given = cmd->count("--row-step") > 0;
     run = [o, mode_given, preset_given, row_step_given] {
-      const modes::Mode mode = parse_mode(o->mode);
+      const modes::Mode mode = o->mode;
       if (o->scene.empty() && mode_given) throw InputError("--mode needs --scene FILE");
       if (preset_given && (o->scene.empty() || mode != modes::Mode::kHw))
         throw InputError("--preset needs --scene FILE and --mode hw");

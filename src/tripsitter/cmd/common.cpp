@@ -43,12 +43,6 @@ device::DevicePreset load_preset(const std::string& name, int workers, int bounc
   return *preset;
 }
 
-modes::Mode parse_mode(const std::string& name) {
-  auto mode = modes::mode_by_name(name);
-  if (!mode) throw InputError("--mode must be hw, normal or path, not '" + name + "'");
-  return *mode;
-}
-
 std::vector<std::uint8_t> read_bytes(const std::string& path) {
   if (path == "-") {
     std::cin >> std::noskipws;

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include <tripsitter/device/preset.h>
-#include <tripsitter/modes/mode.h>
 #include <tripsitter/scene/scene.h>
 
 namespace tripsitter::cmd {
@@ -27,9 +26,6 @@ scene::Scene load_scene(const std::string& name_or_path);
 // The named preset with the overrides given on the command line (workers, spp and depth 0 and bounces -1: not
 // given). spp and depth apply to a path-tracing preset only (InputError otherwise).
 device::DevicePreset load_preset(const std::string& name, int workers, int bounces = -1, int spp = 0, int depth = 0);
-
-// --mode's value; throws InputError for an unknown one.
-modes::Mode parse_mode(const std::string& name);
 
 // All bytes of a file, or of standard input for "-"; throws InputError.
 std::vector<std::uint8_t> read_bytes(const std::string& path);

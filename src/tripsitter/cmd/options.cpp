@@ -1,5 +1,8 @@
 #include "options.h"
 
+#include <utility>
+#include <vector>
+
 #include <tripsitter/device/preset.h>
 #include <tripsitter/scene/builtin.h>
 
@@ -11,6 +14,29 @@ namespace {
 std::string with_note(std::string help, std::string_view note) {
   if (!note.empty()) help += "; " + std::string(note);
   return help;
+}
+
+// `flag` takes one of `choices` by name and stores its enum as the command line is read; an unknown name is a
+// usage error that names the choices. The help shows the value's name as the default.
+template <class E>
+CLI::Option* add_choice_option(CLI::App& cmd, const std::string& flag, const std::string& noun, E& value,
+                               const std::vector<std::pair<std::string, E>>& choices, const std::string& help) {
+  std::vector<std::string> names;
+  std::string default_name;
+  for (const auto& [name, choice] : choices) {
+    names.push_back(name);
+    if (choice == value) default_name = name;
+  }
+  const auto parse = [&value, flag, noun, choices, known = join(names)](const std::string& given) {
+    for (const auto& [name, choice] : choices) {
+      if (name == given) {
+        value = choice;
+        return;
+      }
+    }
+    throw CLI::ValidationError(flag, "unknown " + noun + " '" + given + "' (known: " + known + ")");
+  };
+  return cmd.add_option_function<std::string>(flag, parse, help)->default_str(default_name);
 }
 
 }  // namespace
@@ -41,6 +67,27 @@ CLI::Option* add_wire_option(CLI::App& cmd, link::WireVersion& wire, std::string
                     "with a header check and sessions)",
                     note))
       ->default_str(std::string(link::wire_name(wire)));
+}
+
+CLI::Option* add_mode_option(CLI::App& cmd, modes::Mode& mode, std::string_view note) {
+  std::vector<std::pair<std::string, modes::Mode>> choices;
+  for (modes::Mode m : {modes::Mode::kHw, modes::Mode::kNormal, modes::Mode::kPath})
+    choices.emplace_back(modes::mode_name(m), m);
+  return add_choice_option(cmd, "--mode", "mode", mode, choices, with_note("How the picture is made", note));
+}
+
+CLI::Option* add_sampler_option(CLI::App& cmd, render::SamplerKind& sampler, std::string_view note) {
+  return add_choice_option(cmd, "--sampler", "sampler", sampler,
+                           {{"sobol", render::SamplerKind::kSobol}, {"independent", render::SamplerKind::kIndependent}},
+                           with_note("Where the path tracer's samples come from: sobol (Owen-scrambled Sobol points, "
+                                     "less noise at equal spp) or independent (a random stream per pixel)",
+                                     note));
+}
+
+CLI::Option* add_exr_pixel_option(CLI::App& cmd, display::ExrPixel& pixel, std::string_view note) {
+  return add_choice_option(cmd, "--exr-pixel", "pixel type", pixel,
+                           {{"half", display::ExrPixel::kHalf}, {"float", display::ExrPixel::kFloat}},
+                           with_note("OpenEXR channels: half or float (depth is always float)", note));
 }
 
 }  // namespace tripsitter::cmd

@@ -19,7 +19,6 @@
 #include <tripsitter/core/screen.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/resources.h>
-#include <tripsitter/display/exr.h>
 #include <tripsitter/display/monitor.h>
 #include <tripsitter/display/png.h>
 #include <tripsitter/display/vcd.h>
@@ -66,7 +65,7 @@ void check_pattern(const std::string& pattern) {
 // --device with the RTL's settings from render's options: the SPI clock, the VCD and its lines.
 DeviceChoice rtl_choice(const RenderOptions& o) {
   DeviceChoice c = o.device;
-  c.spi_hz = o.spi_hz;
+  c.spi_hz = o.source.board.spi.clock_hz;
   c.vcd = o.vcd;
   c.vcd_lines = o.lines;
   return c;
@@ -92,7 +91,7 @@ void keep(display::VcdFile* vcd, const std::string& path) {
 }
 
 // What a path frame's pixels cost the hardware (device/resources.h): operations per pixel, DSP slices, frame memory.
-void report_resources(const modes::Frame& f, const device::DevicePreset& preset) {
+void report_resources(const modes::HwFrame& f, const device::DevicePreset& preset) {
   const auto spheres = static_cast<std::int64_t>(f.scene_memory != nullptr ? f.scene_memory->geometry.size() : 0);
   const device::Operations ops = device::path_operations_per_pixel(
       preset, f.device.path, spheres, std::uint64_t{core::kScreenWidth} * core::kScreenHeight);
@@ -109,7 +108,7 @@ void report_resources(const modes::Frame& f, const device::DevicePreset& preset)
                r.frame_memory_in_bram ? "fits the block RAM" : "external SRAM: more than the 4.9 Mbit of block RAM");
 }
 
-void report(const modes::Frame& f, int frames, const device::DevicePreset& preset) {
+void report(const modes::HwFrame& f, int frames, const device::DevicePreset& preset) {
   std::cerr << "device: " << f.device.late_pixels << " late pixels on " << f.device.late_lines << " lines";
   if (f.device.demand_known)
     std::cerr << "; the busiest line needs " << f.device.worst_line_cycles << " of its " << preset.lead_cycles
@@ -136,7 +135,7 @@ void print_path_comparison(const RenderOptions& o, const modes::SourceConfig& co
     parts.emplace_back(scene::material_name(type), c.material[static_cast<std::size_t>(type)]);
   if (o.json) {
     nlohmann::json doc = {{"scene", o.scene},
-                          {"preset", config.preset.name},
+                          {"preset", config.board.preset.name},
                           {"mean_relative_bias", c.figures.mean_relative_bias},
                           {"relmse", c.figures.relmse},
                           {"device_spp", c.device_spp},
@@ -144,7 +143,7 @@ void print_path_comparison(const RenderOptions& o, const modes::SourceConfig& co
                           {"device_spp_max", c.max_spp},
                           {"reference_spp", c.reference_spp},
                           {"depth", c.depth},
-                          {"seed", o.seed},
+                          {"seed", o.source.seed},
                           {"frames", frames},
                           {"spheres", c.spheres},
                           {"pixels", c.pixels},
@@ -163,7 +162,7 @@ void print_path_comparison(const RenderOptions& o, const modes::SourceConfig& co
               "  mean relative bias %+.4f (%+.2f%%), relative MSE %.5f\n"
               "  over %zu of %zu pixels, each with %d to %d samples (%d per pixel on time in every frame); "
               "%zu pixels without samples left out\n",
-              c.depth, c.reference_spp, static_cast<unsigned long long>(o.seed), c.figures.mean_relative_bias,
+              c.depth, c.reference_spp, static_cast<unsigned long long>(o.source.seed), c.figures.mean_relative_bias,
               100 * c.figures.mean_relative_bias, c.figures.relmse, c.pixels_compared, c.pixels, c.min_spp, c.max_spp,
               c.device_spp, c.pixels_without_samples);
   std::printf("  by what the camera ray meets first:\n");
@@ -176,10 +175,10 @@ void print_path_comparison(const RenderOptions& o, const modes::SourceConfig& co
 
 // --compare of a normal-shaded device: its VGA frame against the float renderer's, level by level.
 void print_shaded_comparison(const RenderOptions& o, const modes::SourceConfig& config, const core::ImageDiff& d,
-                             const modes::Frame& frame) {
+                             const modes::HwFrame& frame) {
   if (o.json) {
     const nlohmann::json doc = {{"scene", o.scene},
-                                {"preset", config.preset.name},
+                                {"preset", config.board.preset.name},
                                 {"pixels", d.pixels},
                                 {"differing", d.differing},
                                 {"over_one_level", d.over_one_level},
@@ -196,14 +195,14 @@ void print_shaded_comparison(const RenderOptions& o, const modes::SourceConfig& 
 
 // --compare: modes::compare_device decides what the frame is compared with; a path reference shows its progress.
 void compare(const RenderOptions& o, const scene::Scene& scene, const modes::SourceConfig& config,
-             const modes::Frame& frame, int frames) {
+             const modes::HwFrame& frame, int frames) {
   modes::PathComparisonSettings settings;
   settings.reference_spp = o.reference_spp > 0 ? o.reference_spp : modes::default_reference_spp(frame.samples);
-  settings.seed = o.seed;
-  settings.threads = o.threads;
+  settings.seed = o.source.seed;
+  settings.threads = o.source.threads;
   const auto row_samples = static_cast<std::uint64_t>(core::kScreenWidth) * static_cast<std::uint64_t>(settings.reference_spp);
   std::optional<core::ProgressBar> bar;
-  if (device::traces_paths(config.preset, config.wire)) {
+  if (device::traces_paths(config.board.preset, config.board.wire)) {
     bar.emplace("reference", row_samples * core::kScreenHeight, "samples", !o.quiet, std::cerr);
     settings.on_row = [&](int) { bar->add(row_samples); };
   }
@@ -233,14 +232,14 @@ std::uint64_t samples_of(const render::PathSettings& s) {
 
 // --frames N --orbit DEG: the camera circles its target by DEG over the N frames, each frame through the same
 // road as a still.
-int run_animation(const RenderOptions& o, modes::Mode mode, const scene::Scene& scene) {
-  const modes::SourceConfig config = source_config(o, mode, scene);
+int run_animation(const RenderOptions& o, const scene::Scene& scene) {
+  const modes::SourceConfig config = source_config(o, scene);
   const std::unique_ptr<modes::FrameSource> source = modes::make_frame_source(scene, config);
   const std::unique_ptr<display::VideoPipe> video = open_video(o, config.width, config.height);
   core::ProgressBar bar("animation", static_cast<std::uint64_t>(o.frames), "frames", !o.quiet, std::cerr);
   modes::animate(*source, o.frames, o.orbit, {}, [&](int i, const modes::Frame* frame) {
     write_quietly(frame_path(o.out, i), *frame, o);
-    if (video) video->add(frame->rgb8());
+    if (video) video->add(modes::rgb8(*frame));
     bar.add(1);
   });
   bar.finish();
@@ -255,15 +254,15 @@ int run_device_alone(const RenderOptions& o) {
   const std::vector<std::uint8_t> bytes = read_bytes(o.link_input);
   const std::unique_ptr<display::VcdFile> vcd = open_vcd(o);
   const device::DevicePreset preset = load_preset(o.preset, o.workers, o.bounces);
-  const link::WireVersion wire = o.wire;
+  const link::WireVersion wire = o.source.board.wire;
   const auto make_rtl = device_maker(rtl_choice(o), preset, wire);
   const std::unique_ptr<device::Backend> device =
       make_rtl ? make_rtl() : std::make_unique<device::Device>(preset, wire);
   device::Backend& dev = *device;
   display::VgaMonitor monitor;
   const std::span<const std::uint8_t> all(bytes);
-  for (std::size_t at = 0; at < all.size(); at += o.transfer_bytes)
-    dev.transfer(all.subspan(at, std::min(o.transfer_bytes, all.size() - at)));
+  for (std::size_t at = 0; at < all.size(); at += o.source.board.spi.max_transfer_bytes)
+    dev.transfer(all.subspan(at, std::min(o.source.board.spi.max_transfer_bytes, all.size() - at)));
   dev.end_of_stream();
   board::CapturedFrame captured = board::capture_frame(dev, monitor, [&vcd](const device::VgaSample& s) {
     if (vcd) vcd->sample(s);
@@ -278,9 +277,9 @@ int run_device_alone(const RenderOptions& o) {
                      (rx.last_error.empty() ? "" : " (last error: " + rx.last_error + ")"));
   std::cerr << "device: showing world " << captured.stats.sequence << ", " << captured.stats.late_pixels
             << " late pixels on " << captured.stats.late_lines << " lines\n";
-  modes::Frame frame;
+  modes::HwFrame frame;
   frame.vga = std::move(captured.image);
-  write_image(o.out, frame, o);
+  write_image(o.out, std::move(frame), o);
   keep(vcd.get(), o.vcd);
   return kExitOk;
 }
@@ -288,9 +287,10 @@ int run_device_alone(const RenderOptions& o) {
 int run_render(const RenderOptions& o) {
   const MpirunPlace place = mpirun_place();
 #ifdef TRIPSITTER_WITH_MPI
-  if (place.size > 0 && modes::mode_by_name(o.mode) == modes::Mode::kPath) return run_render_mpi(o);
-  const std::string refusal = "--mode " + o.mode + " under mpirun: only --mode path shares its work among MPI ranks; run " +
-                              o.mode + " without mpirun";
+  if (place.size > 0 && o.source.mode == modes::Mode::kPath) return run_render_mpi(o);
+  const std::string name(modes::mode_name(o.source.mode));
+  const std::string refusal = "--mode " + name + " under mpirun: only --mode path shares its work among MPI ranks; run " +
+                              name + " without mpirun";
 #else
   const std::string refusal = "this tripsitter was built without MPI, so under mpirun each of the " +
                               std::to_string(place.size) +
@@ -302,18 +302,17 @@ int run_render(const RenderOptions& o) {
     if (place.rank != 0) return kExitBadInput;
     throw InputError(refusal);
   }
-  const modes::Mode mode = parse_mode(o.mode);
-  check_options(o, mode);
+  check_options(o);
   check_outputs(o);
   if (!o.link_input.empty()) return run_device_alone(o);
 
   const scene::Scene scene = load_scene(o.scene);
-  if (o.frames > 0) return run_animation(o, mode, scene);
-  if (mode == modes::Mode::kPath) {
+  if (o.frames > 0) return run_animation(o, scene);
+  if (o.source.mode == modes::Mode::kPath) {
     return run_path_still(o, scene, {}, true, "");
   }
   const std::unique_ptr<display::VcdFile> vcd = open_vcd(o);
-  modes::SourceConfig config = source_config(o, mode, scene);
+  modes::SourceConfig config = source_config(o, scene);
   if (vcd) config.probe = [&vcd](const device::VgaSample& s) { vcd->sample(s); };
   const std::unique_ptr<modes::FrameSource> source = modes::make_frame_source(scene, config);
   // --accumulate N: the still world N times; a path-tracing device adds each frame's samples to frame memory.
@@ -322,12 +321,12 @@ int run_render(const RenderOptions& o) {
   const modes::Frame* shown = &source->draw();
   for (int i = 1; i < frames; ++i) shown = &source->draw();
   const modes::Frame& frame = *shown;
-  if (mode == modes::Mode::kHw) report(frame, frames, config.preset);
-  if (config.make_device)
+  if (const auto* hw = std::get_if<modes::HwFrame>(&frame)) report(*hw, frames, config.board.preset);
+  if (config.board.make_device)
     std::cerr << "device (RTL): simulated in "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()
               << " s, the world's transfer and the frames to its first one included\n";
-  if (o.compare) compare(o, scene, config, frame, frames);
+  if (o.compare) compare(o, scene, config, std::get<modes::HwFrame>(frame), frames);
   write_image(o.out, frame, o);
   keep(vcd.get(), o.vcd);
   return kExitOk;
@@ -335,11 +334,12 @@ int run_render(const RenderOptions& o) {
 
 }  // namespace
 
-void check_options(const RenderOptions& o, modes::Mode mode) {
+void check_options(const RenderOptions& o) {
   using modes::Mode;
+  const Mode mode = o.source.mode;
   if (mode == Mode::kNormal && (o.spp != 0 || o.depth != 0))
     throw InputError("--spp and --depth need --mode path, or --mode hw with --preset path (normal traces one ray per pixel)");
-  const link::WireVersion wire = o.wire;
+  const link::WireVersion wire = o.source.board.wire;
   const device::DevicePreset preset =
       load_preset(o.preset, o.workers, o.bounces, mode == Mode::kHw ? o.spp : 0, mode == Mode::kHw ? o.depth : 0);
   const bool traced = mode == Mode::kHw && device::traces_paths(preset, wire);
@@ -367,14 +367,11 @@ void check_options(const RenderOptions& o, modes::Mode mode) {
   if (!o.aov.empty() && o.frames > 0) throw InputError("--aov writes the feature buffers of a still: not with --frames");
   if (o.frames > 0) check_pattern(o.out);
   if (mode != Mode::kPath) {
-    if (o.sampler != "sobol") throw InputError("--sampler needs --mode path");
-    if (o.denoise) throw InputError("--denoise needs --mode path (hw and normal pictures are not noisy)");
+    if (o.source.sampler != render::SamplerKind::kSobol) throw InputError("--sampler needs --mode path");
+    if (o.source.denoise) throw InputError("--denoise needs --mode path (hw and normal pictures are not noisy)");
     if (!o.aov.empty()) throw InputError("--aov needs --mode path (the path tracer writes the feature buffers)");
-    if (is_exr(o.out)) throw InputError("--out " + o.out + ": EXR files hold the path tracer's linear light; use --mode path, or a .png name");
+    if (display::is_exr(o.out)) throw InputError("--out " + o.out + ": EXR files hold the path tracer's linear light; use --mode path, or a .png name");
   }
-  if (o.sampler != "sobol" && o.sampler != "independent")
-    throw InputError("--sampler " + o.sampler + ": expected sobol or independent");
-  if (o.exr_pixel != "half" && o.exr_pixel != "float") throw InputError("--exr-pixel " + o.exr_pixel + ": expected half or float");
 }
 
 void check_outputs(const RenderOptions& o) {
@@ -389,30 +386,22 @@ void check_outputs(const RenderOptions& o) {
     throw InputError("--aov " + o.aov + ": not a directory (create it first)");
 }
 
-modes::SourceConfig source_config(const RenderOptions& o, modes::Mode mode, const scene::Scene& scene) {
-  modes::SourceConfig c;
-  c.mode = mode;
-  c.preset = load_preset(o.preset, o.workers, o.bounces, mode == modes::Mode::kHw ? o.spp : 0,
-                         mode == modes::Mode::kHw ? o.depth : 0);
-  c.wire = o.wire;
-  c.spi = {o.transfer_bytes, o.spi_hz};
-  if (mode == modes::Mode::kHw) c.make_device = device_maker(rtl_choice(o), c.preset, c.wire);
-  const bool monitor = mode == modes::Mode::kHw;
+modes::SourceConfig source_config(const RenderOptions& o, const scene::Scene& scene) {
+  modes::SourceConfig c = o.source;
+  const bool monitor = c.mode == modes::Mode::kHw;
+  c.board.preset = load_preset(o.preset, o.workers, o.bounces, monitor ? o.spp : 0, monitor ? o.depth : 0);
+  if (monitor) c.board.make_device = device_maker(rtl_choice(o), c.board.preset, c.board.wire);
   c.width = monitor ? core::kScreenWidth : (o.width != 0 ? o.width : scene.render.width);
   c.height = monitor ? core::kScreenHeight : (o.height != 0 ? o.height : scene.render.height);
-  c.threads = o.threads;
   c.spp = o.spp != 0 ? o.spp : scene.render.spp;
   c.max_depth = o.depth != 0 ? o.depth : scene.render.max_depth;
-  c.seed = o.seed;
-  c.sampler = o.sampler == "independent" ? render::SamplerKind::kIndependent : render::SamplerKind::kSobol;
-  c.denoise = o.denoise;
-  c.aovs = !o.aov.empty() || is_exr(o.out);
+  c.aovs = !o.aov.empty() || display::is_exr(o.out);
   return c;
 }
 
 int run_path_still(const RenderOptions& o, const scene::Scene& scene, const modes::PathTrace& trace, bool writes,
                    const std::string& where) {
-  modes::SourceConfig config = source_config(o, modes::Mode::kPath, scene);
+  modes::SourceConfig config = source_config(o, scene);
   const render::PathSettings s = modes::path_settings(config);
   std::optional<core::ProgressBar> bar;
   config.trace = trace;
@@ -431,7 +420,7 @@ int run_path_still(const RenderOptions& o, const scene::Scene& scene, const mode
                  trace_seconds, static_cast<double>(samples_of(s)) / trace_seconds / 1e6, where.c_str());
   }
   write_image(o.out, frame, o);
-  if (!o.aov.empty()) write_aovs(o.aov, *frame.aovs);
+  if (!o.aov.empty()) write_aovs(o.aov, *std::get<modes::PathFrame>(frame).aovs);
   return kExitOk;
 }
 
@@ -441,37 +430,15 @@ std::string frame_path(const std::string& pattern, int frame) {
   return buf;
 }
 
-bool is_exr(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".exr";
-}
-
 void write_quietly(const std::string& path, const modes::Frame& frame, const RenderOptions& o) {
-  if (!is_exr(path)) {
-    auto written = modes::write_png(path, frame);
-    if (!written) throw InputError(written.error().message);
-    return;
-  }
-  // Linear light as traced, the feature buffers as layers (albedo.R/G/B, normal.X/Y/Z, Z).
-  const auto floats = [](const std::vector<render::Vec3f>& v) { return std::span<const float>(&v.data()->x, 3 * v.size()); };
-  display::ExrImage image{frame.linear.width, frame.linear.height, {}};
-  display::add_rgb(image, "", floats(frame.linear.pixels));
-  if (frame.aovs != nullptr) {
-    display::add_rgb(image, "albedo", floats(frame.aovs->albedo));
-    display::add_xyz(image, "normal", floats(frame.aovs->normal));
-    display::add_depth(image, frame.aovs->depth);
-  }
-  auto written = display::write_exr(path, image, o.exr_pixel == "float" ? display::ExrPixel::kFloat : display::ExrPixel::kHalf);
+  auto written = modes::write_image(path, frame, o.exr_pixel);
   if (!written) throw InputError(written.error().message);
 }
 
 void write_image(const std::string& path, const modes::Frame& frame, const RenderOptions& o) {
   write_quietly(path, frame, o);
-  const core::ImageRgb8& rgb = frame.rgb;
-  const int width = frame.vga.pixels.empty() ? rgb.width : frame.vga.width;
-  const int height = frame.vga.pixels.empty() ? rgb.height : frame.vga.height;
-  std::cerr << "wrote " << path << " (" << width << "x" << height << ")\n";
+  const modes::PictureSize size = modes::picture_size(frame);
+  std::cerr << "wrote " << path << " (" << size.width << "x" << size.height << ")\n";
 }
 
 std::unique_ptr<display::VideoPipe> open_video(const RenderOptions& o, int width, int height) {
@@ -485,12 +452,11 @@ void add_render_command(CLI::App& app, Action& run) {
   auto o = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render one frame as the board's monitor shows it, to a PNG file");
   add_scene_option(*cmd, o->scene);
-  cmd->add_option("--mode", o->mode,
+  add_mode_option(*cmd, o->source.mode,
                   "hw: host -> link -> device -> VGA capture, bit-exact fixed point (640x480 only);\n"
                   "normal: the float reference of the same rays and shading, mirrors included (any size);\n"
                   "path: the float path tracer with materials, bounces, samples and the scene's thin-lens camera,\n"
-                  "      written sRGB-encoded")
-      ->capture_default_str();
+                  "      written sRGB-encoded");
   add_preset_option(*cmd, o->preset);
   cmd->add_option("--workers", o->workers,
                   "Number of device workers (the artix preset's sphere units), 1..640 (default: the preset's)")
@@ -498,7 +464,7 @@ void add_render_command(CLI::App& app, Action& run) {
   cmd->add_option("--bounces", o->bounces,
                   "Device mirror bounces off metal spheres, 0..6 (default: the preset's); also used by --mode normal")
       ->check(CLI::Range(0, 6));
-  add_wire_option(*cmd, o->wire, "with v1 the device shows the last sphere");
+  add_wire_option(*cmd, o->source.board.wire, "with v1 the device shows the last sphere");
   cmd->add_option("--width", o->width, "Image width, normal and path modes (default: the scene's render.width; hw is 640)")
       ->check(CLI::Range(1, scene::kMaxImageSide));
   cmd->add_option("--height", o->height, "Image height, normal and path modes (default: the scene's render.height; hw is 480)")
@@ -521,9 +487,9 @@ void add_render_command(CLI::App& app, Action& run) {
   cmd->add_option("--link-input", o->link_input,
                   "Feed the device raw link bytes from this file ('-' for stdin) instead of a scene; with v1, each 8 "
                   "bytes are one word, most significant byte first");
-  cmd->add_option("--transfer-bytes", o->transfer_bytes, "Largest SPI transfer in bytes")
+  cmd->add_option("--transfer-bytes", o->source.board.spi.max_transfer_bytes, "Largest SPI transfer in bytes")
       ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
-  cmd->add_option("--spi-hz", o->spi_hz, "SPI clock in Hz, for the link time report; with --device rtl, SCLK on the "
+  cmd->add_option("--spi-hz", o->source.board.spi.clock_hz, "SPI clock in Hz, for the link time report; with --device rtl, SCLK on the "
                                          "RTL's pins (at most 12.5 MHz)")
       ->capture_default_str()->check(CLI::Range(std::int64_t{1}, std::int64_t{1'000'000'000'000}));
   cmd->add_option("--spp", o->spp,
@@ -535,27 +501,22 @@ void add_render_command(CLI::App& app, Action& run) {
                   "--mode path: most bounces along one path (default: the scene's render.max_depth);\n"
                   "--mode hw --preset path: rays per path on the device, 1..16 (default 4)")
       ->check(CLI::Range(1, scene::kMaxDepth));
-  cmd->add_option("--seed", o->seed,
+  cmd->add_option("--seed", o->source.seed,
                   "--mode path: random seed; the same seed gives the same image on any thread count. With --compare and "
                   "--preset path: the float reference's seed (the device's own random numbers do not take one)")
       ->capture_default_str();
-  cmd->add_option("--threads", o->threads,
+  cmd->add_option("--threads", o->source.threads,
                   "normal and path modes, and --compare's float path tracer: worker threads (default: all)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--quiet", o->quiet, "No progress bar or summary on stderr");
-  cmd->add_option("--sampler", o->sampler,
-                  "--mode path: where samples come from: sobol (Owen-scrambled Sobol points, less noise at equal spp) or "
-                  "independent (a random stream per pixel)")
-      ->capture_default_str();
-  cmd->add_flag("--denoise", o->denoise,
+  add_sampler_option(*cmd, o->source.sampler, "--mode path");
+  cmd->add_flag("--denoise", o->source.denoise,
                 "--mode path: filter the picture with the edge-avoiding a-trous denoiser, guided by the first hits' "
                 "albedo, normal and depth (docs/denoiser.md); stills and animations");
   cmd->add_option("--aov", o->aov,
                   "--mode path, a still: also write the feature buffers (first hits' albedo, normal, depth) as "
                   "albedo.png, normal.png and depth.png in this existing directory");
-  cmd->add_option("--exr-pixel", o->exr_pixel,
-                  "With --out FILE.exr: half or float channels (depth is always float)")
-      ->capture_default_str();
+  add_exr_pixel_option(*cmd, o->exr_pixel, "with --out FILE.exr");
   cmd->add_option("--frames", o->frames,
                   "Render an animation of N frames; --out is then a pattern such as DIR/frame_%04d.png")
       ->check(CLI::Range(1, 1'000'000));

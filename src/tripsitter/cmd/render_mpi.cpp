@@ -61,7 +61,7 @@ int run_still(const cluster::Job& job, const RenderOptions& o, const scene::Scen
 // An animation: frame i is rendered whole by rank i % K; rank 0 writes the frames in order (and feeds ffmpeg).
 // Every rank moves the camera through every frame, so each frame's camera is the one a single process uses.
 int run_frames(const cluster::Job& job, const RenderOptions& o, const scene::Scene& scene) {
-  const modes::SourceConfig config = source_config(o, modes::Mode::kPath, scene);
+  const modes::SourceConfig config = source_config(o, scene);
   const std::unique_ptr<modes::FrameSource> source = modes::make_frame_source(scene, config);
   cluster::FrameExchange exchange(job);
   std::unique_ptr<display::VideoPipe> video;
@@ -70,21 +70,23 @@ int run_frames(const cluster::Job& job, const RenderOptions& o, const scene::Sce
                         std::cerr);
   const auto owns = [&exchange](int i) { return exchange.owns(i); };
   modes::animate(*source, o.frames, o.orbit, owns, [&](int i, const modes::Frame* drawn) {
-    modes::Frame frame;
+    modes::Frame frame = modes::PathFrame{};
+    core::ImageRgb8& rgb = std::get<modes::PathFrame>(frame).rgb;
     if (drawn != nullptr) {
       job.test_kill_point();
+      const core::ImageRgb8& traced = std::get<modes::PathFrame>(*drawn).rgb;
       if (!job.is_root()) {
-        exchange.send(drawn->rgb);
+        exchange.send(traced);
         return;
       }
-      frame.rgb = drawn->rgb;
+      rgb = traced;
     } else if (job.is_root()) {
-      frame.rgb = exchange.receive(i, config.width, config.height);
+      rgb = exchange.receive(i, config.width, config.height);
     } else {
       return;
     }
     write_quietly(frame_path(o.out, i), frame, o);
-    if (video) video->add(frame.rgb);
+    if (video) video->add(rgb);
     bar.add(1);
   });
   if (!job.is_root()) return kExitOk;
@@ -104,8 +106,8 @@ int run_render_mpi(const RenderOptions& o) {
   std::optional<scene::Scene> scene;
   std::exception_ptr problem;
   try {
-    check_options(o, modes::Mode::kPath);
-    if (o.frames > 0 && is_exr(o.out))
+    check_options(o);
+    if (o.frames > 0 && display::is_exr(o.out))
       throw InputError("--out " + o.out + ": under mpirun an animation's frames travel to rank 0 as 8-bit RGB, so "
                        "they cannot be written as EXR; write PNG frames, or run without mpirun");
     if (job.is_root()) check_outputs(o);

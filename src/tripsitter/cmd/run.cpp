@@ -15,48 +15,43 @@
 namespace tripsitter::cmd {
 namespace {
 
+// The window's settings as the options give them (app: the mode, wire, seed, threads, denoiser, reuse, row step
+// and screenshot directory), and what run_run makes of the rest: the scene, the preset, the device, the depth.
 struct RunCommandOptions {
+  frontend::AppConfig app;
   std::string scene = "demo";
-  std::string mode = "hw";
   std::string preset = "wide";
   int workers = 0;
-  link::WireVersion wire = link::WireVersion::kV3;
   int scale = 1;
-  std::string screenshot_dir = ".";
-  std::uint64_t seed = 1;
-  int threads = 0;
   std::uint64_t frames = 0;
   int spp = 0;    // 0: not given
   int depth = 0;
-  bool denoise = true;
-  bool reuse = true;
-  int row_step = 1;
   DeviceChoice device;
 };
 
-int run_run(const RunCommandOptions& o) {
-  frontend::AppConfig c;
-  c.mode = parse_mode(o.mode);
-  c.wire = o.wire;
-  const bool hw = c.mode == modes::Mode::kHw;
-  if (c.mode == modes::Mode::kNormal && (o.spp != 0 || o.depth != 0))
+// Options that contradict each other; throws InputError before any work.
+void check_options(const RunCommandOptions& o) {
+  const modes::SourceConfig& s = o.app.source;
+  if (s.mode == modes::Mode::kNormal && (o.spp != 0 || o.depth != 0))
     throw InputError("--spp and --depth need --mode hw with --preset path, or --mode path (normal traces one ray per pixel)");
-  if (c.mode == modes::Mode::kPath && o.spp != 0)
+  if (s.mode == modes::Mode::kPath && o.spp != 0)
     throw InputError("--spp: the window's --mode path adds one sample per pixel per frame while the camera is still; "
                      "--spp sets the device's samples per frame with --mode hw --preset path");
-  if (c.mode != modes::Mode::kPath && (!o.denoise || !o.reuse || o.row_step != 1))
+  if (s.mode != modes::Mode::kPath && (!s.denoise || !s.reuse || s.row_step != 1))
     throw InputError("--no-denoise, --no-reuse and --row-step need --mode path");
-  if (wants_rtl(o.device) && !hw) throw InputError("--device rtl needs --mode hw (the RTL is the device)");
-  c.preset = load_preset(o.preset, o.workers, -1, hw ? o.spp : 0, hw ? o.depth : 0);
-  if (hw) c.make_device = device_maker(o.device, c.preset, c.wire);
-  if (!hw) c.max_depth = o.depth;
+  if (wants_rtl(o.device) && s.mode != modes::Mode::kHw)
+    throw InputError("--device rtl needs --mode hw (the RTL is the device)");
+}
+
+int run_run(const RunCommandOptions& o) {
+  check_options(o);
+  frontend::AppConfig c = o.app;
+  modes::SourceConfig& s = c.source;
+  const bool hw = s.mode == modes::Mode::kHw;
+  s.board.preset = load_preset(o.preset, o.workers, -1, hw ? o.spp : 0, hw ? o.depth : 0);
+  if (hw) s.board.make_device = device_maker(o.device, s.board.preset, s.board.wire);
+  if (!hw) s.max_depth = o.depth;
   c.scene = load_scene(o.scene);
-  c.screenshot_dir = o.screenshot_dir;
-  c.seed = o.seed;
-  c.threads = o.threads;
-  c.denoise = o.denoise;
-  c.reuse = o.reuse;
-  c.row_step = o.row_step;
   const frontend::LatencyStats latency = frontend::run_window(std::move(c), {o.scale, o.frames});
   if (latency.samples > 0)
     std::fprintf(stderr, "key-to-photon latency: mean %.1f ms, max %.1f ms over %d key presses\n", latency.mean_ms,
@@ -78,11 +73,10 @@ void add_run_command(CLI::App& app, Action& run) {
       "samples per pixel and whether the denoiser is on. Path mode keeps earlier frames while the camera moves\n"
       "(reprojected through the depth buffer) and filters the picture (docs/denoiser.md).");
   add_scene_option(*cmd, o->scene);
-  cmd->add_option("--mode", o->mode,
+  add_mode_option(*cmd, o->app.source.mode,
                   "hw: every camera change goes host -> link -> device -> VGA capture (with --preset path the\n"
                   "device accumulates samples while the camera is still); normal: the float reference;\n"
-                  "path: the float path tracer, refining while the camera is still")
-      ->capture_default_str();
+                  "path: the float path tracer, refining while the camera is still");
   add_preset_option(*cmd, o->preset, "hw; path path-traces, and accumulates in frame memory while the camera is still");
   cmd->add_option("--spp", o->spp,
                   "--mode hw --preset path: samples per pixel the device adds each frame, 1..255 (default 1; a pixel "
@@ -95,16 +89,16 @@ void add_run_command(CLI::App& app, Action& run) {
   cmd->add_option("--workers", o->workers,
                   "Number of device workers (the artix preset's sphere units; default: the preset's)")
       ->check(CLI::Range(1, 640));
-  add_wire_option(*cmd, o->wire);
+  add_wire_option(*cmd, o->app.source.board.wire);
   add_device_option(*cmd, o->device);
   cmd->add_option("--scale", o->scale, "Window size as a multiple of 640x480")->capture_default_str()->check(CLI::Range(1, 8));
-  cmd->add_option("--screenshot-dir", o->screenshot_dir, "Where F12 writes tripsitter-N.png")->capture_default_str();
-  cmd->add_option("--seed", o->seed, "path: random seed")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "normal and path modes: worker threads (default: all)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--screenshot-dir", o->app.screenshot_dir, "Where F12 writes tripsitter-N.png")->capture_default_str();
+  cmd->add_option("--seed", o->app.source.seed, "path: random seed")->capture_default_str();
+  cmd->add_option("--threads", o->app.source.threads, "normal and path modes: worker threads (default: all)")->check(CLI::Range(1, 1024));
   cmd->add_option("--frames", o->frames, "Quit after this many frames (default: run until Esc)");
-  cmd->add_flag("!--no-denoise", o->denoise, "path: start with the denoiser off (N turns it on)");
-  cmd->add_flag("!--no-reuse", o->reuse, "path: start over at every camera move instead of reprojecting earlier frames");
-  cmd->add_option("--row-step", o->row_step,
+  cmd->add_flag("!--no-denoise", o->app.source.denoise, "path: start with the denoiser off (N turns it on)");
+  cmd->add_flag("!--no-reuse", o->app.source.reuse, "path: start over at every camera move instead of reprojecting earlier frames");
+  cmd->add_option("--row-step", o->app.source.row_step,
                   "path: trace paths on 1 row of every N per frame, the rest carried by earlier frames (faster frames, "
                   "more lag)")
       ->capture_default_str()->check(CLI::Range(1, 8));

@@ -24,15 +24,9 @@
 #include <vector>
 
 #include <tripsitter/core/result.h>
-#include <tripsitter/display/io.h>
+#include <tripsitter/display/io.h>  // ExrPixel, how a channel's values are stored
 
 namespace tripsitter::display {
-
-// How a channel's values are stored in the file.
-//   kHalf   16-bit half: each value rounded to the nearest half (ties to even, as Imath::half does); infinities
-//           and NaN stay so, and a finite value beyond half's range (|v| >= 65520) becomes infinity of its sign.
-//   kFloat  32-bit float: every bit pattern exactly, NaN payloads, -0 and denormals included.
-enum class ExrPixel { kHalf, kFloat };
 
 struct ExrChannel {
   std::string name;           // unique in the image, not empty (OpenEXR allows up to 255 bytes)

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <tripsitter/display/exr.h>
+#include <tripsitter/display/png.h>
 #include <tripsitter/display/test_util.h>
 
 #include <ImfChannelList.h>
@@ -365,6 +366,36 @@ TEST(ExrChannels, AddRgbAndAddXyzSplitInterleavedTriples) {
   EXPECT_EQ(find_channel(image, "Z")->pixel, ExrPixel::kFloat);
   EXPECT_EQ(find_channel(image, "R")->pixel, std::nullopt);
   EXPECT_EQ(find_channel(image, "nothing"), nullptr);
+}
+
+// io.h's write_image: a .exr name (any case) gets linear light and the feature buffers given as layers, any
+// other name the sRGB picture as PNG.
+TEST_F(ExrTest, AnImageFilesFormatIsChosenByItsName) {
+  EXPECT_TRUE(is_exr("a/b.EXR"));
+  EXPECT_FALSE(is_exr("b.exr.png"));
+  core::ImageRgb8 rgb(2, 1);
+  rgb.pixels = {255, 0, 0, 0, 0, 255};
+  const core::ImageRgbF linear{2, 1, {{1, 0, 0}, {0, 0, 0.5f}}};
+  const std::vector<core::Vec3f> albedo{{0.5f, 0.5f, 0.5f}, {1, 1, 1}}, normal{{0, 0, 1}, {0, 1, 0}};
+  const std::vector<float> depth{2.0f, std::numeric_limits<float>::infinity()};
+  ASSERT_TRUE(write_image(path("plain.exr"), {.rgb = rgb, .linear = linear}, ExrPixel::kFloat).ok());
+  ASSERT_TRUE(write_image(path("layers.Exr"), {.rgb = rgb, .linear = linear, .albedo = albedo, .normal = normal,
+                                               .depth = depth}, ExrPixel::kHalf).ok());
+  ASSERT_TRUE(write_image(path("picture.png"), {.rgb = rgb, .linear = linear, .albedo = albedo}, ExrPixel::kHalf).ok());
+  const auto plain = read_exr(path("plain.exr"));
+  ASSERT_TRUE(plain.ok());
+  ASSERT_EQ(plain.value().channels.size(), 3u);
+  EXPECT_EQ(find_channel(plain.value(), "B")->values, (std::vector<float>{0, 0.5f}));
+  const auto layers = read_exr(path("layers.Exr"));
+  ASSERT_TRUE(layers.ok());
+  EXPECT_EQ(layers.value().channels.size(), 10u);
+  EXPECT_EQ(find_channel(layers.value(), "normal.Y")->values, (std::vector<float>{0, 1}));
+  EXPECT_EQ(find_channel(layers.value(), "Z")->values, depth);
+  EXPECT_EQ(find_channel(layers.value(), "Z")->pixel, ExrPixel::kFloat);
+  const auto png = read_png(path("picture.png"));
+  ASSERT_TRUE(png.ok());
+  EXPECT_EQ(png.value().at(0, 0), core::Rgb444(0xf00));
+  EXPECT_EQ(png.value().at(1, 0), core::Rgb444(0x00f));
 }
 
 }  // namespace

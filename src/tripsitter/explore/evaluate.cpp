@@ -39,7 +39,7 @@ core::ImageRgb8 thumbnail_of(const core::ImageRgb8& image) {
 }
 
 // The world in scene memory as text: the reference cache's key.
-std::string world_key(const modes::Frame& frame, int frac_bits) {
+std::string world_key(const modes::HwFrame& frame, int frac_bits) {
   std::string key = std::to_string(frac_bits);
   for (const scene::Sphere& s : modes::scene_memory_spheres(*frame.scene_memory, frac_bits)) {
     char buf[256];
@@ -81,15 +81,15 @@ Point evaluate(const Configuration& config, const scene::Scene& scene, const Eva
   const DeviceSetup setup = setup_of(config);
   modes::SourceConfig source;
   source.mode = modes::Mode::kHw;
-  source.preset = setup.preset;
-  source.wire = *link::wire_by_name(setup.wire);
-  source.spi = setup.spi;
-  source.device_threads = 1;
+  source.board.preset = setup.preset;
+  source.board.wire = *link::wire_by_name(setup.wire);
+  source.board.spi = setup.spi;
+  source.board.device_threads = 1;
   source.threads = 1;
   const std::unique_ptr<modes::FrameSource> board = modes::make_frame_source(scene, source);
   const modes::Frame* shown = &board->draw();
   for (int i = 1; i < config.frames; ++i) shown = &board->draw();
-  const modes::Frame& frame = *shown;
+  const modes::HwFrame& frame = std::get<modes::HwFrame>(*shown);
 
   Point point;
   point.config = config;
@@ -116,7 +116,7 @@ Point evaluate(const Configuration& config, const scene::Scene& scene, const Eva
   compare.seed = settings.seed;
   compare.threads = 1;
   std::shared_ptr<const core::ImageRgbF> reference;
-  if (device::traces_paths(preset, source.wire)) {
+  if (device::traces_paths(preset, source.board.wire)) {
     reference = references.get(
         {world_key(frame, preset.frac_bits()), preset.path->depth, settings.reference_spp, settings.seed},
         [&] { return modes::device_path_reference(frame, preset, compare); });
@@ -153,7 +153,7 @@ Point evaluate(const Configuration& config, const scene::Scene& scene, const Eva
   m.sram_bits_per_cycle = r.frame_memory_bits_per_cycle;
 
   if (settings.thumbnail) {
-    auto png = display::encode_png(thumbnail_of(frame.rgb8()));
+    auto png = display::encode_png(thumbnail_of(core::to_rgb8(frame.vga)));
     if (png) point.thumbnail_png = std::move(png).value();
   }
   return point;

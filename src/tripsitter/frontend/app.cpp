@@ -12,27 +12,42 @@ double ms_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
+// The overlay's figures of an hw frame: the device's late lines, the link's cost, the host's saturations and,
+// with a path-tracing preset, the samples in frame memory.
+void take_figures(const modes::HwFrame& f, FrameInfo& info) {
+  info.late_lines = f.device.late_lines;
+  info.link_bytes = f.link_bytes;
+  info.link_ms = f.link_seconds * 1e3;
+  info.saturations = f.saturations.total();
+  info.samples = f.samples;
+}
+
+// The overlay's figures of a path frame: its samples per pixel.
+void take_figures(const modes::PathFrame& f, FrameInfo& info) {
+  info.samples = f.samples;
+  info.mean_samples = f.mean_samples;
+}
+
 }  // namespace
 
-App::App(AppConfig config) : config_(std::move(config)) {
+modes::SourceConfig window_source() {
   modes::SourceConfig c;
-  c.mode = config_.mode;
-  c.preset = config_.preset;
-  c.wire = config_.wire;
-  c.make_device = config_.make_device;
+  c.denoise = true;
+  c.max_depth = 0;
+  return c;
+}
+
+App::App(AppConfig config) : config_(std::move(config)) {
+  modes::SourceConfig c = config_.source;
   c.width = kWidth;
   c.height = kHeight;
-  c.threads = config_.threads;
-  c.max_depth = config_.max_depth > 0 ? config_.max_depth : config_.scene.render.max_depth;
-  c.seed = config_.seed;
+  if (c.max_depth == 0) c.max_depth = config_.scene.render.max_depth;
   c.progressive = true;
-  c.denoise = config_.denoise;
-  c.reuse = config_.reuse;
-  c.row_step = config_.row_step;
   source_ = modes::make_frame_source(config_.scene, c);
+  const board::BoardConfig& board = c.board;
   info_.spheres = config_.scene.spheres.size();
-  info_.device_path = config_.mode == Mode::kHw && device::traces_paths(config_.preset, config_.wire);
-  info_.workers = config_.preset.workers;
+  info_.device_path = c.mode == Mode::kHw && device::traces_paths(board.preset, board.wire);
+  info_.workers = board.preset.workers;
   render_frame();
 }
 
@@ -77,17 +92,20 @@ void App::advance(double dt_s) {
   }
 }
 
+const core::ImageRgb8& App::frame() const {
+  if (const auto* path = std::get_if<modes::PathFrame>(shown_)) return path->rgb;
+  return expanded_;
+}
+
 void App::render_frame() {
   const auto start = std::chrono::steady_clock::now();
   const modes::Frame& frame = source_->draw();
   shown_ = &frame;
-  if (!frame.vga.pixels.empty()) expanded_ = core::to_rgb8(frame.vga);
-  info_.late_lines = frame.device.late_lines;
-  info_.link_bytes = frame.link_bytes;
-  info_.link_ms = frame.link_seconds * 1e3;
-  info_.saturations = frame.saturations.total();
-  info_.samples = frame.samples;
-  info_.mean_samples = frame.mean_samples;
+  if (const auto* hw = std::get_if<modes::HwFrame>(&frame)) take_figures(*hw, info_);
+  if (const auto* path = std::get_if<modes::PathFrame>(&frame))
+    take_figures(*path, info_);
+  else
+    expanded_ = modes::rgb8(frame);
   info_.denoise = source_->denoise();
   dirty_ = false;
   ++serial_;
@@ -100,7 +118,7 @@ void App::screenshot() {
   do {
     path = fs::path(config_.screenshot_dir) / ("tripsitter-" + std::to_string(++screenshots_) + ".png");
   } while (fs::exists(path));
-  const auto written = modes::write_png(path.string(), *shown_);
+  const auto written = modes::write_image(path.string(), *shown_);
   message_ = written ? "screenshot written to " + path.string() : written.error().message;
 }
 

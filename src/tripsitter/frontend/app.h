@@ -6,16 +6,12 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include <tripsitter/core/image.h>
-#include <tripsitter/device/backend.h>
-#include <tripsitter/device/preset.h>
 #include <tripsitter/host/controls.h>
-#include <tripsitter/link/wire.h>
 #include <tripsitter/modes/frame_source.h>
 #include <tripsitter/scene/scene.h>
 
@@ -23,19 +19,15 @@ namespace tripsitter::frontend {
 
 using modes::Mode;
 
+// The window's frame source before any option: the denoiser on (N toggles it) and the scene's depth.
+modes::SourceConfig window_source();
+
 struct AppConfig {
   scene::Scene scene;
-  Mode mode = Mode::kHw;
-  device::DevicePreset preset = device::wide_preset();
-  link::WireVersion wire = link::WireVersion::kV3;
-  std::function<std::unique_ptr<device::Backend>()> make_device{};  // hw: the RTL in place of the model (BoardConfig)
+  // The mode, the board (hw), threads, and in path mode the seed, the denoiser, reuse and row_step. App always
+  // draws 640x480, progressively; a max_depth of 0 is the scene's render.max_depth.
+  modes::SourceConfig source = window_source();
   std::string screenshot_dir = ".";
-  std::uint64_t seed = 1;      // path mode
-  int max_depth = 0;           // path mode: bounces along one path (0: the scene's render.max_depth)
-  int threads = 0;             // normal and path modes, 0: all
-  bool denoise = true;         // path mode: filter the picture (N toggles it)
-  bool reuse = true;           // path mode: reproject earlier frames while the camera moves
-  int row_step = 1;            // path mode: paths on 1 row of every row_step per frame
   host::ControlSpeeds speeds;
 };
 
@@ -72,7 +64,7 @@ class App {
   void advance(double dt_s);
 
   // The frame on screen, 640x480, 8 bits per channel (12-bit frames expanded).
-  const core::ImageRgb8& frame() const { return shown_->vga.pixels.empty() ? shown_->rgb : expanded_; }
+  const core::ImageRgb8& frame() const;
   const FrameInfo& info() const { return info_; }
   bool quit() const { return quit_; }
   bool overlay() const { return overlay_; }

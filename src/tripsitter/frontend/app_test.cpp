@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 AppConfig config(Mode mode, const std::string& scene = "demo") {
   AppConfig c;
   c.scene = *scene::builtin(scene);
-  c.mode = mode;
+  c.source.mode = mode;
   c.screenshot_dir = fs::temp_directory_path().string();
   return c;
 }
@@ -120,7 +120,7 @@ TEST(App, NormalModeShowsTheFloatReference) {
 
 TEST(App, PathModeRefinesWhileStillAndRestartsOnMovement) {
   AppConfig c = config(Mode::kPath, "cluster");
-  c.threads = 2;
+  c.source.threads = 2;
   App app(std::move(c));
   EXPECT_EQ(app.info().samples, 1);
   app.advance(0.01);
@@ -134,9 +134,9 @@ TEST(App, PathModeRefinesWhileStillAndRestartsOnMovement) {
 // world), and a move starts it over; Tab's figures say how far it got.
 TEST(App, HwPathPresetAccumulatesWhileStillAndRestartsOnMovement) {
   AppConfig c = config(Mode::kHw, "cluster");
-  c.preset = device::path_preset();
-  c.preset.path->spp = 2;
-  c.preset.workers = 32;
+  c.source.board.preset = device::path_preset();
+  c.source.board.preset.path->spp = 2;
+  c.source.board.preset.workers = 32;
   App app(std::move(c));
   EXPECT_EQ(app.info().samples, 2);
   EXPECT_TRUE(app.info().device_path);

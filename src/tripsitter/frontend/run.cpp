@@ -9,7 +9,7 @@
 namespace tripsitter::frontend {
 
 LatencyStats run_window(AppConfig config, const RunOptions& options) {
-  const Mode mode = config.mode;
+  const Mode mode = config.source.mode;
   const std::string title = "TripSitter - " + config.scene.name;
   Window window(title, options.scale);
   App app(std::move(config));

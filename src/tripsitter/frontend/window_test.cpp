@@ -95,8 +95,8 @@ TEST_F(WindowTest, ScriptedKeysDriveTheLoop) {
 TEST_F(WindowTest, ThePathPresetRefinesInTheLoopWithTheOverlayShown) {
   AppConfig config;
   config.scene = *scene::builtin("demo");
-  config.preset = device::path_preset();
-  config.preset.path->depth = 2;
+  config.source.board.preset = device::path_preset();
+  config.source.board.preset.path->depth = 2;
   ASSERT_EQ(SDL_InitSubSystem(SDL_INIT_VIDEO), 0) << SDL_GetError();
   push_key(SDL_SCANCODE_TAB, true);
   const LatencyStats stats = run_window(config, {1, 4});  // four frames drawn, none answering a key

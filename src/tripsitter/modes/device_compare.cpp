@@ -63,7 +63,7 @@ AccumulatedImage accumulated_image(const device::FrameMemory& memory) {
 
 int default_reference_spp(int device_spp) { return std::max(256, 4 * device_spp); }
 
-core::ImageRgbF device_path_reference(const Frame& frame, const device::DevicePreset& preset,
+core::ImageRgbF device_path_reference(const HwFrame& frame, const device::DevicePreset& preset,
                                         const PathComparisonSettings& settings) {
   if (!preset.path) throw std::invalid_argument("device_path_reference: preset " + preset.name + " does not path-trace");
   if (frame.scene_memory == nullptr)
@@ -76,7 +76,7 @@ core::ImageRgbF device_path_reference(const Frame& frame, const device::DevicePr
   return render::render_device_view(scene_memory_spheres(*frame.scene_memory, preset.frac_bits()), s, settings.on_row);
 }
 
-PathComparison compare_device_path(const Frame& frame, const device::DevicePreset& preset,
+PathComparison compare_device_path(const HwFrame& frame, const device::DevicePreset& preset,
                                    const PathComparisonSettings& settings) {
   if (!preset.path) throw std::invalid_argument("compare_device_path: preset " + preset.name + " does not path-trace");
   if (frame.frame_memory == nullptr || frame.scene_memory == nullptr)
@@ -131,14 +131,15 @@ PathComparison compare_device_path(const Frame& frame, const device::DevicePrese
   return out;
 }
 
-DeviceComparison compare_device(const scene::Scene& scene, const SourceConfig& config, const Frame& frame,
+DeviceComparison compare_device(const scene::Scene& scene, const SourceConfig& config, const HwFrame& frame,
                                 const PathComparisonSettings& path_settings) {
-  if (device::traces_paths(config.preset, config.wire)) return compare_device_path(frame, config.preset, path_settings);
+  if (device::traces_paths(config.board.preset, config.board.wire))
+    return compare_device_path(frame, config.board.preset, path_settings);
   SourceConfig reference = config;
   reference.mode = Mode::kNormal;
   reference.probe = {};
-  reference.make_device = {};
-  return core::diff(frame.vga, make_frame_source(scene, reference)->draw().vga);
+  reference.board.make_device = {};
+  return core::diff(frame.vga, std::get<NormalFrame>(make_frame_source(scene, reference)->draw()).vga);
 }
 
 }  // namespace tripsitter::modes

@@ -81,20 +81,20 @@ int default_reference_spp(int device_spp);
 
 // The float path tracer's picture compare_device_path compares the frame with: render_device_view of the world in
 // its scene memory at settings.reference_spp (0: the default for the frame's samples) and the preset's depth.
-core::ImageRgbF device_path_reference(const Frame& frame, const device::DevicePreset& preset,
+core::ImageRgbF device_path_reference(const HwFrame& frame, const device::DevicePreset& preset,
                                         const PathComparisonSettings& settings);
 
 // Compares an hw frame of a path-tracing preset (frame.frame_memory set; the frame's world in frame.scene_memory)
 // with render_device_view of its scene memory at settings.reference_spp samples per pixel and the preset's depth.
 // Throws std::invalid_argument for a frame without frame memory or a preset without path.
-PathComparison compare_device_path(const Frame& frame, const device::DevicePreset& preset,
+PathComparison compare_device_path(const HwFrame& frame, const device::DevicePreset& preset,
                                    const PathComparisonSettings& settings);
 
 // The comparison `--compare` makes of an hw frame drawn from `scene` with `config` (the frame source's): on a
 // preset and wire that trace paths (device::traces_paths) compare_device_path with `path_settings`, otherwise the
 // frame's VGA image against normal mode's frame of the same world and camera.
 using DeviceComparison = std::variant<core::ImageDiff, PathComparison>;
-DeviceComparison compare_device(const scene::Scene& scene, const SourceConfig& config, const Frame& frame,
+DeviceComparison compare_device(const scene::Scene& scene, const SourceConfig& config, const HwFrame& frame,
                                 const PathComparisonSettings& path_settings);
 
 }  // namespace tripsitter::modes

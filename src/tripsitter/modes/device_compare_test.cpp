@@ -15,10 +15,10 @@ namespace {
 SourceConfig path_config(int spp = 1, int depth = 4) {
   SourceConfig c;
   c.mode = Mode::kHw;
-  c.preset = device::path_preset();
-  c.preset.path->spp = spp;
-  c.preset.path->depth = depth;
-  c.device_threads = 2;
+  c.board.preset = device::path_preset();
+  c.board.preset.path->spp = spp;
+  c.board.preset.path->depth = depth;
+  c.board.device_threads = 2;
   return c;
 }
 
@@ -66,16 +66,16 @@ TEST(DeviceCompare, AccumulatedImageIsTheMeanAndCountsPixelsWithoutSamples) {
 TEST(DeviceCompare, HwSourceWithThePathPresetAccumulatesWhileStillAndRestartsWhenSteered) {
   const scene::Scene scene = *scene::builtin("demo");
   auto source = make_frame_source(scene, path_config(2));
-  const Frame* f = &source->draw();
+  const HwFrame* f = &std::get<HwFrame>(source->draw());
   ASSERT_NE(f->frame_memory, nullptr);
   ASSERT_NE(f->scene_memory, nullptr);
   EXPECT_EQ(f->samples, 2);
   EXPECT_TRUE(source->refining());
-  f = &source->draw();
+  f = &std::get<HwFrame>(source->draw());
   EXPECT_EQ(f->samples, 4);
   EXPECT_EQ(accumulated_image(*f->frame_memory).max_count, 4);
   source->steer().orbit(10);
-  f = &source->draw();
+  f = &std::get<HwFrame>(source->draw());
   EXPECT_EQ(f->samples, 2);  // a world of other content starts over
 
   // Frame memory holds at most 255 samples per pixel: after one frame of 128 another would not fit, so nothing
@@ -85,15 +85,15 @@ TEST(DeviceCompare, HwSourceWithThePathPresetAccumulatesWhileStillAndRestartsWhe
   // into thousands of pixels. With the preset's 64 workers the first frames of these two sources traced about 70
   // million samples, most of this test's time.)
   SourceConfig full_config = path_config(128, 1);
-  full_config.preset.workers = 1;
+  full_config.board.preset.workers = 1;
   auto full = make_frame_source(scene::random_spheres(0, 1), full_config);
-  f = &full->draw();
+  f = &std::get<HwFrame>(full->draw());
   EXPECT_EQ(f->samples, 128);
   EXPECT_FALSE(full->refining());
   const AccumulatedImage full_first = accumulated_image(*f->frame_memory);
   EXPECT_EQ(full_first.max_count, 128);
   EXPECT_GT(640u * 480u - full_first.without_samples, 1000u);
-  f = &full->draw();
+  f = &std::get<HwFrame>(full->draw());
   EXPECT_EQ(f->samples, 128);
   // Pixels late in the first frame may take their 128 now; those that have 128 take nothing.
   const AccumulatedImage full_second = accumulated_image(*f->frame_memory);
@@ -107,7 +107,7 @@ TEST(DeviceCompare, HwSourceWithThePathPresetAccumulatesWhileStillAndRestartsWhe
   }
   EXPECT_EQ(changed, 0u);
   SourceConfig nearly_config = path_config(100, 1);
-  nearly_config.preset.workers = 1;
+  nearly_config.board.preset.workers = 1;
   auto nearly = make_frame_source(scene::random_spheres(0, 1), nearly_config);
   nearly->draw();
   EXPECT_TRUE(nearly->refining());  // 200 fit
@@ -115,10 +115,10 @@ TEST(DeviceCompare, HwSourceWithThePathPresetAccumulatesWhileStillAndRestartsWhe
   // Presets that trace one ray per pixel, and v1 words, do not accumulate.
   SourceConfig wide;
   auto still = make_frame_source(scene, wide);
-  EXPECT_EQ(still->draw().frame_memory, nullptr);
+  EXPECT_EQ(std::get<HwFrame>(still->draw()).frame_memory, nullptr);
   EXPECT_FALSE(still->refining());
   SourceConfig v1 = path_config();
-  v1.wire = link::WireVersion::kV1;
+  v1.board.wire = link::WireVersion::kV1;
   auto words = make_frame_source(scene, v1);
   words->draw();
   EXPECT_FALSE(words->refining());
@@ -132,13 +132,13 @@ TEST(DeviceCompare, TheDeviceAgreesWithTheFloatPathTracerOfItsRays) {
   // 2 samples per frame: at 8, the dielectric's costly pixels are late in every frame and never get a sample.
   const SourceConfig config = path_config(2);
   auto source = make_frame_source(scene, config);
-  const Frame* f = nullptr;
-  for (int i = 0; i < 8; ++i) f = &source->draw();
+  const HwFrame* f = nullptr;
+  for (int i = 0; i < 8; ++i) f = &std::get<HwFrame>(source->draw());
   ASSERT_EQ(f->samples, 16);
   PathComparisonSettings settings;
   settings.reference_spp = 64;
   settings.threads = 2;
-  const PathComparison c = compare_device_path(*f, config.preset, settings);
+  const PathComparison c = compare_device_path(*f, config.board.preset, settings);
   EXPECT_EQ(c.device_spp, 16);
   EXPECT_EQ(c.max_spp, 16);
   EXPECT_GE(c.min_spp, 14);  // a pixel late in a frame has the others' samples only
@@ -162,8 +162,8 @@ TEST(DeviceCompare, TheDeviceAgreesWithTheFloatPathTracerOfItsRays) {
 TEST(DeviceCompare, NeedsAFrameWithFrameMemory) {
   const scene::Scene scene = *scene::builtin("demo");
   auto source = make_frame_source(scene, SourceConfig{});
-  EXPECT_THROW(compare_device_path(source->draw(), device::path_preset(), {}), std::invalid_argument);
-  EXPECT_THROW(compare_device_path(source->draw(), device::wide_preset(), {}), std::invalid_argument);
+  EXPECT_THROW(compare_device_path(std::get<HwFrame>(source->draw()), device::path_preset(), {}), std::invalid_argument);
+  EXPECT_THROW(compare_device_path(std::get<HwFrame>(source->draw()), device::wide_preset(), {}), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,30 +1,30 @@
 // One frame source per mode: each owns the host's camera (the controls move it) and makes the picture seen from
 // it. `render` (stills, animations, MPI), `run` (the window) and `bench` take their frames from here, so that a
-// mode is chosen once and takes one road through the code.
+// mode is chosen once and takes one road through the code. Each mode's frame is its own type (Frame).
 //
 //   hw      the board (board.h): the host quantises and encodes, the link carries the bytes, the device draws a
 //           VGA frame and the monitor captures it;
 //   normal  the host's view (host/view.h) rendered by the float reference of the device's shading
 //           (render/normal.h), nothing encoded;
 //   path    the path tracer (render/path_tracer.h) from the scene's thin-lens camera; once the camera has been
-//           steered, from the host camera's position and target.
+//           steered, from the host camera's position and target: the window's source refines a picture
+//           (render/interactive.h), the stills' source traces a whole one at a time.
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
+#include <variant>
 
+#include <tripsitter/board/board.h>
 #include <tripsitter/core/image.h>
 #include <tripsitter/core/result.h>
-#include <tripsitter/device/backend.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/display/io.h>
 #include <tripsitter/host/camera.h>
 #include <tripsitter/host/host.h>
-#include <tripsitter/link/spi.h>
-#include <tripsitter/link/wire.h>
 #include <tripsitter/modes/mode.h>
 #include <tripsitter/render/aov.h>
 #include <tripsitter/render/interactive.h>
@@ -43,13 +43,9 @@ using PathTrace = std::function<core::ImageRgbF(const render::PathScene&, const 
 // What a source needs; each mode reads its own fields.
 struct SourceConfig {
   Mode mode = Mode::kHw;
-  // hw: the device and the link. normal: the device's mirror bounces and scene memory (the float reference
-  // renders the world the device would hold).
-  device::DevicePreset preset = device::wide_preset();
-  link::WireVersion wire = link::WireVersion::kV3;
-  link::SpiConfig spi;                 // hw
-  int device_threads = 0;              // hw: threads the device model computes a frame's lines on (0: all)
-  std::function<std::unique_ptr<device::Backend>()> make_device{};  // hw: the RTL in place of the model (BoardConfig)
+  // hw: the board as it is built. normal: of it, the device's mirror bounces and scene memory (preset) and the
+  // wire (the float reference renders the world the device would hold).
+  board::BoardConfig board;
   std::function<void(const device::VgaSample&)> probe;  // hw: sees every VGA sample (a VCD trace)
   // normal and path (hw is always the monitor's 640x480)
   int width = 640;
@@ -72,34 +68,53 @@ struct SourceConfig {
 // The path tracer's settings of a picture at config.spp samples per pixel.
 render::PathSettings path_settings(const SourceConfig& config);
 
-// One picture and what it cost.
-struct Frame {
-  core::Image444 vga;   // hw and normal: the 12-bit picture (empty in path mode)
-  core::ImageRgb8 rgb;  // path: the sRGB-encoded picture (empty in hw and normal mode)
-  // hw: the device's frame, and the world it shows as the host sent it
+// hw: the board's picture, the device's frame and the world it shows as the host sent it.
+struct HwFrame {
+  core::Image444 vga;  // the 12-bit picture the monitor captured
   device::FrameStats device;
   host::Saturations saturations;
   std::size_t link_bytes = 0;
-  double link_seconds = 0;              // at the SPI clock
-  std::size_t spheres_dropped = 0;      // beyond scene memory, never sent
-  int samples = 0;                      // path, and hw with a path-tracing preset: samples per pixel in the picture
-                                        // (progressive path: frames since the camera last moved; see mean_samples)
-  double mean_samples = 0;              // progressive path: samples per pixel, mean over the picture, reprojected share included
-  // path: the picture in linear light (before the sRGB encoding of rgb) and its feature buffers
-  core::ImageRgbF linear;
-  const render::Aovs* aovs = nullptr;   // progressive: always; stills: with SourceConfig::aovs or denoise
-  // hw: the device's memories as this frame left them, valid until the next draw() (null in the other modes):
-  // scene memory, the world the frame shows in raw fixed point; and with a path-tracing preset frame memory,
-  // each pixel's accumulated samples (null for the other presets). modes/device_compare.h reads them.
+  double link_seconds = 0;          // at the SPI clock
+  std::size_t spheres_dropped = 0;  // beyond scene memory, never sent
+  int samples = 0;                  // with a path-tracing preset: samples per pixel in frame memory
+  // The device's memories as this frame left them, valid until the next draw(): scene memory, the world the
+  // frame shows in raw fixed point; and with a path-tracing preset frame memory, each pixel's accumulated
+  // samples (null for the other presets). modes/device_compare.h reads them.
   const device::SceneMemory* scene_memory = nullptr;
   const device::FrameMemory* frame_memory = nullptr;
-
-  // The picture in 8-bit RGB: rgb, or vga with each channel expanded.
-  core::ImageRgb8 rgb8() const { return vga.pixels.empty() ? rgb : core::to_rgb8(vga); }
 };
 
-// Writes the frame's picture as a PNG file: the 12-bit picture where there is one, else the sRGB one.
-core::Result<bool, display::IoError> write_png(const std::string& path, const Frame& frame);
+// normal: the float reference's 12-bit picture.
+struct NormalFrame {
+  core::Image444 vga;
+};
+
+// path: the picture in linear light, its sRGB encoding and its feature buffers.
+struct PathFrame {
+  core::ImageRgb8 rgb;      // sRGB-encoded
+  core::ImageRgbF linear;   // before the encoding
+  const render::Aovs* aovs = nullptr;  // progressive: always; stills: with SourceConfig::aovs or denoise
+  int samples = 0;          // samples per pixel (progressive: frames since the camera last moved)
+  double mean_samples = 0;  // samples per pixel, mean over the picture (progressive: reprojected share included)
+};
+
+// One picture and what it cost, of the source's mode.
+using Frame = std::variant<HwFrame, NormalFrame, PathFrame>;
+
+// The picture in 8-bit RGB: the sRGB one, or the 12-bit one with each channel expanded.
+core::ImageRgb8 rgb8(const Frame& frame);
+// The picture's width and height in pixels.
+struct PictureSize {
+  int width = 0;
+  int height = 0;
+};
+PictureSize picture_size(const Frame& frame);
+
+// Writes the frame's picture to `path` (display/io.h's write_image: PNG, or OpenEXR for a .exr name); an EXR
+// file holds a path frame's linear light with its feature buffers as layers. A 12-bit picture has no linear
+// light: for a .exr name the error says so and nothing is written.
+core::Result<bool, display::IoError> write_image(const std::string& path, const Frame& frame,
+                                                display::ExrPixel pixel = display::ExrPixel::kHalf);
 
 class FrameSource {
  public:

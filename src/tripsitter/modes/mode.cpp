@@ -2,12 +2,6 @@
 
 namespace tripsitter::modes {
 
-std::optional<Mode> mode_by_name(std::string_view name) {
-  for (Mode m : {Mode::kHw, Mode::kNormal, Mode::kPath})
-    if (name == mode_name(m)) return m;
-  return std::nullopt;
-}
-
 std::string_view mode_name(Mode mode) {
   switch (mode) {
     case Mode::kHw: return "hw";

@@ -2,7 +2,6 @@
 // make_frame_source (frame_source.h).
 #pragma once
 
-#include <optional>
 #include <string_view>
 
 namespace tripsitter::modes {
@@ -13,8 +12,7 @@ enum class Mode {
   kPath,    // the float path tracer with the scene's materials and thin-lens camera, any size
 };
 
-// "hw", "normal", "path"; nothing for any other name.
-std::optional<Mode> mode_by_name(std::string_view name);
+// "hw", "normal", "path": the names the command line takes (cmd/options.h parses them).
 std::string_view mode_name(Mode mode);
 
 }  // namespace tripsitter::modes

@@ -67,7 +67,7 @@ Reference PathQuality::render_reference(int orbit_steps, int spp) {
       c.seed = 1000003 + static_cast<std::uint64_t>(half);  // not a seed the measured pictures use
       const std::unique_ptr<FrameSource> source = make_frame_source(scene_, c);
       for (int k = 0; k < orbit_steps; ++k) source->steer().orbit(settings_.orbit_deg_per_frame);
-      (half == 0 ? a : b) = source->draw().linear.pixels;
+      (half == 0 ? a : b) = std::get<PathFrame>(source->draw()).linear.pixels;
     }
     if (!path.empty()) {
       std::filesystem::create_directories(path.parent_path());
@@ -126,9 +126,9 @@ QualityFigure PathQuality::still(bool denoise, int frames, double seconds, const
   const std::unique_ptr<FrameSource> source = make_frame_source(scene_, c);
   QualityFigure f;
   const auto start = Clock::now();
-  const Frame* frame = nullptr;
+  const PathFrame* frame = nullptr;
   do {
-    frame = &source->draw();
+    frame = &std::get<PathFrame>(source->draw());
     ++f.frames;
     f.seconds = seconds_since(start);
   } while (frames > 0 ? f.frames < frames : f.seconds < seconds);
@@ -153,7 +153,7 @@ QualityFigure PathQuality::orbit(bool denoise, bool reuse, const std::string& na
   source->draw();  // the still first frame the orbit starts from
   for (int k = 1; k <= settings_.orbit_frames; ++k) {
     source->steer().orbit(settings_.orbit_deg_per_frame);
-    const Frame& frame = source->draw();
+    const PathFrame& frame = std::get<PathFrame>(source->draw());
     if (k % settings_.orbit_every != 0) continue;
     const double drawing = seconds_since(start);
     const render::ImageError e =
@@ -184,7 +184,7 @@ QualityFigure PathQuality::plain(int spp, render::SamplerKind sampler, const std
   c.sampler = sampler;
   const auto start = Clock::now();
   const std::unique_ptr<FrameSource> source = make_frame_source(scene_, c);  // owns the frame
-  const Frame& frame = source->draw();
+  const PathFrame& frame = std::get<PathFrame>(source->draw());
   QualityFigure f;
   f.seconds = seconds_since(start);
   f.frames = 1;

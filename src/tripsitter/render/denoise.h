@@ -7,10 +7,12 @@
 // docs/denoiser.md describes the filter, its parameters, its cost and what it blurs.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <vector>
 
 #include <tripsitter/render/aov.h>
+#include <tripsitter/render/path_tracer.h>
 
 namespace tripsitter::render {
 
@@ -86,5 +88,26 @@ class Denoiser {
 
 // One-shot form of Denoiser::denoise (allocates its scratch each call).
 void denoise(const DenoiseInput& input, const DenoiseSettings& settings, std::span<Vec3f> out);
+
+// Two estimates of one picture, `a` the mean of a share weight_a of every pixel's samples and `b` of the rest,
+// merged into the mean of them all, which it returns. Their difference gives each pixel's own variance, written
+// to `variance`: two estimates of the mean, each of about half the samples, put the variance of their mean at
+// about (a - b)^2 / 4 in luminance (a noisy estimate of it, which the denoiser smooths before use). `aovs_a`,
+// the first estimate's feature buffers, becomes the merged buffers (depth: the finite one where the other is
+// infinite). REQUIRES a, b, aovs_a, aovs_b and variance all of a's pixels.
+core::ImageRgbF merge_halves(const core::ImageRgbF& a, Aovs& aovs_a, const core::ImageRgbF& b, const Aovs& aovs_b,
+                             float weight_a, std::span<float> variance);
+
+// How a still's samples are traced: render_path of the picture for `settings`, filling `aovs` (MPI shares the
+// rows among ranks, cmd/render_mpi.cpp).
+using TraceStill = std::function<core::ImageRgbF(const PathSettings& settings, Aovs* aovs)>;
+
+// A path-traced still filtered with its own feature buffers (`render --mode path --denoise`), into `aovs`. With
+// two or more samples per pixel they are traced in two halves (the first and the second half of each pixel's
+// sequence) and merged (merge_halves), so that each pixel's variance is its own and what its samples agree on (a
+// sharp reflection, say) is kept, where a variance from the neighbours would count it as noise. One sample per
+// pixel says nothing of its own spread: the variance then comes from the neighbours (estimate_variance). The
+// picture is the same bytes whichever Denoiser is given; keeping one keeps its scratch planes.
+core::ImageRgbF denoised_still(const PathSettings& settings, const TraceStill& trace, Denoiser& denoiser, Aovs& aovs);
 
 }  // namespace tripsitter::render

@@ -3,16 +3,12 @@
 #include <tripsitter/render/denoise.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <limits>
 #include <span>
 #include <stdexcept>
-#include <string>
 #include <utility>
 #include <vector>
 
@@ -378,46 +374,56 @@ TEST(Denoise, RejectsBadArguments) {
   EXPECT_THROW(d.estimate_variance(f.input(), 3, 1, short_variance), std::invalid_argument);
 }
 
-// Not a test: the cost at the interactive window's size: of 15 calls on one Denoiser, the best and the median wall
-// time, and the least processor time (all threads' together, std::clock), in milliseconds. Run with
-//   render_test --gtest_also_run_disabled_tests --gtest_filter='Denoise.DISABLED_Cost'
-TEST(Denoise, DISABLED_Cost) {
-  const Frame f = busy_frame(640, 480, 0.8f, 6);
-  std::vector<Vec3f> out(f.color.size());
-  std::vector<float> variance(f.color.size());
-  const auto time = [](const char* what, int threads, const auto& call) {
-    call();  // warm: allocation, caches
-    std::vector<double> wall;
-    double cpu = 1e30;
-    for (int k = 0; k < 15; ++k) {
-      const auto t0 = std::chrono::steady_clock::now();
-      const std::clock_t c0 = std::clock();
-      call();
-      cpu = std::min(cpu, 1e3 * static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
-      wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    }
-    std::sort(wall.begin(), wall.end());
-    std::printf("640x480, %-32s %d thread(s): wall best %6.2f median %6.2f, processor %6.2f ms\n", what, threads,
-                wall.front(), wall[wall.size() / 2], cpu);
-  };
-  for (const int threads : {1, 2}) {
-    Denoiser d;
-    time("estimate_variance (radius 3),", threads, [&] { d.estimate_variance(f.input(), 3, threads, variance); });
-    for (const int iterations : {1, 2, 3, 4, 5}) {
-      DenoiseSettings s;
-      s.threads = threads;
-      s.iterations = iterations;
-      std::string what = "denoise, ";
-      what += std::to_string(iterations);
-      what += " iteration(s),";
-      time(what.c_str(), threads, [&] { d.denoise(f.input(), s, out); });
-    }
-    DenoiseSettings s;
-    s.threads = threads;
-    DenoiseInput no_variance = f.input();
-    no_variance.variance = {};
-    time("denoise, 5, variance estimated,", threads, [&] { d.denoise(no_variance, s, out); });
-  }
+// Two halves of a pixel's samples merged: the mean of all of them, a luminance variance of (a - b)^2 / 4, and
+// feature buffers averaged alike, except a depth only one half found, which is kept.
+TEST(Denoise, MergedHalvesAreTheMeanWithTheirOwnVariance) {
+  const core::ImageRgbF a{2, 1, {{1, 1, 1}, {0, 0, 0}}}, b{2, 1, {{0, 0, 0}, {0.5f, 0.5f, 0.5f}}};
+  Aovs aovs_a(2, 1), aovs_b(2, 1);
+  aovs_a.albedo = {{1, 0, 0}, {0, 0, 0}};
+  aovs_b.albedo = {{0, 0, 1}, {1, 1, 1}};
+  aovs_a.depth = {2.0f, kInf};
+  aovs_b.depth = {4.0f, 3.0f};
+  std::vector<float> variance(2);
+  const core::ImageRgbF merged = merge_halves(a, aovs_a, b, aovs_b, 0.25f, variance);
+  EXPECT_EQ(merged.width, 2);
+  EXPECT_EQ(merged.pixels[0].x, 0.25f);
+  EXPECT_EQ(merged.pixels[1].y, 0.375f);
+  EXPECT_FLOAT_EQ(variance[0], 0.25f);  // luminance 1 against 0
+  EXPECT_FLOAT_EQ(variance[1], 0.0625f);
+  EXPECT_EQ(aovs_a.albedo[0].x, 0.25f);
+  EXPECT_EQ(aovs_a.albedo[0].z, 0.75f);
+  EXPECT_EQ(aovs_a.depth[0], 3.5f);
+  EXPECT_EQ(aovs_a.depth[1], 3.0f);
+}
+
+// A denoised still is the denoiser over its two halves' merged picture and variance; one sample per pixel takes
+// its variance from the neighbours instead. Either way the feature buffers are the whole picture's.
+TEST(Denoise, DenoisedStillFiltersTheMergedHalves) {
+  const scene::Scene scene = *scene::builtin("cluster");
+  const PathScene world(scene.spheres);
+  const ThinLensCamera lens(scene.camera, 24, 16);
+  PathSettings s{.width = 24, .height = 16, .spp = 4, .max_depth = 4, .seed = 3, .threads = 2, .sky = {}};
+  const TraceStill trace = [&](const PathSettings& part, Aovs* aovs) { return render_path(world, lens, part, {}, aovs); };
+  Denoiser denoiser;
+  Aovs aovs;
+  const core::ImageRgbF still = denoised_still(s, trace, denoiser, aovs);
+  PathSettings first = s, second = s;
+  first.spp = second.spp = 2;
+  second.first_sample = 2;
+  Aovs first_aovs, second_aovs;
+  const core::ImageRgbF a = trace(first, &first_aovs), b = trace(second, &second_aovs);
+  std::vector<float> variance(a.pixels.size());
+  core::ImageRgbF expected = merge_halves(a, first_aovs, b, second_aovs, 0.5f, variance);
+  DenoiseSettings filter;
+  filter.threads = 2;
+  denoise({.width = 24, .height = 16, .color = expected.pixels, .variance = variance, .aovs = &first_aovs}, filter,
+          expected.pixels);
+  EXPECT_EQ(still.pixels, expected.pixels);
+  EXPECT_EQ(aovs.depth, first_aovs.depth);
+  s.spp = 1;
+  const core::ImageRgbF one = denoised_still(s, trace, denoiser, aovs);
+  EXPECT_EQ(one.pixels.size(), 24u * 16u);
+  EXPECT_NE(one.pixels, trace(s, nullptr).pixels);  // filtered
 }
 
 }  // namespace

@@ -13,9 +13,8 @@ namespace tripsitter::render {
 
 struct TemporalSettings {
   // After a move, a pixel keeps at most this many samples' worth of its history, so that what the history got
-  // wrong (resampling blur, light that changed with the view: reflections) fades within that many frames. 1
-  // measured best: path_relmse_field_orbit (bench, 2 threads) 0.0101 at 1, 0.0109 at 2, 0.0121 at 3, 0.0135 at
-  // 4, 0.0182 at 8 and 0.0230 at 16; the denoiser, fed the reprojected history, does the rest.
+  // wrong (resampling blur, light that changed with the view: reflections) fades within that many frames; the
+  // denoiser, fed the reprojected history, does the rest. docs/denoiser.md has the measurements that chose 1.
   float max_history_moving = 1;
   // A tap of the previous frame is the same surface when its depth is within this fraction of the distance
   // expected from the previous camera to the pixel's surface point ...
