@@ -6,7 +6,7 @@
 //
 // The ray of pixel (col, row) is v = (x, y, 320), x = col - 320, y = row - 240; with n = x^2 + y^2 + 320^2 in
 // [102400, 262400], the seed y0 = seed[(n >> 9) - SeedFirst] ~ 2^25 / sqrt(n) and one Newton step
-//     e = (n y0^2) >> 30 ~ 2^20,   g = (y0 (3 2^20 - e)) >> 18 ~ 2^28 / sqrt(n),
+//     e = (n y0^2) >> 30 ~ 2^20,   g = (y0 (3 2^20 + 1 - e)) >> 18 ~ 2^28 / sqrt(n),
 // the direction is d_k = round(v_k g / 2^11) saturated to +-(2^17 - 1) (only the centre's z reaches 2^17).
 //
 // Timing: a pixel at the ports with in_valid in cycle t comes out with out_valid in cycle t + Latency (11), with
@@ -23,15 +23,16 @@
 //   4   sq = y0^2                                                DSP 18 x 18; below 2^34
 //   5   lo = n sq[16:0]                                          DSP 25 x 18; below 2^36
 //   6   hi = n sq[33:17] + (lo >> 17) = (n sq) >> 17             DSP 25 x 18 and its post-adder; below 2^35.01
-//   7   h = 3 2^20 - (hi >> 13)                                  22 bits: e = 2^20 (1 +- 2^-8), so h = 2^21 +- 2^12
+//   7   h = 3 2^20 + 1 - (hi >> 13)                              22 bits: e = 2^20 (1 +- 2^-8), so h = 2^21 +- 2^12
 //   8   g = (y0 h) >> 18                                         DSP 25 x 18; g < 2^28 / 320 + 1 < 2^20
 //   9   p_k = v_k g + 2^10: x and y a DSP 25 x 18 each, z as (g << 8) + (g << 6) + 2^10; |p_k| < 2^29
 //   10  d_k = p_k >> 11, saturated
 // The product n y0^2 (19 x 34 bits) is split on y0^2's 17-bit halves, as a DSP48E1 cascade takes it; every other
 // product has its wider operand (at most 23 bits signed) on A and the narrower (at most 18) on B. The widths rest
 // on n in [102400, 262400]: there y0 is within 2^-9 of 2^25 / sqrt(n), relatively (the seed is taken in the middle
-// of its 512 values of n), so e is within 2^-8 of 2^20; and the Newton step never overshoots, so g, which takes e
-// rounded down, exceeds 2^28 / sqrt(n) by less than 1/2.
+// of its 512 values of n), so e is within 2^-8 of 2^20. The Newton step never overshoots and the shifts floor, so
+// without the 1 in h, g would be low on average; with it the directions' mean length is 1 - 2.9e-7 over the screen
+// (1 - 7.7e-7 without).
 //
 // The package's facts are named ts_artix_pkg::X, not imported: Yosys 0.23 cannot parse `import`.
 module ts_artix_camera #(
@@ -75,7 +76,7 @@ module ts_artix_camera #(
   localparam int NewtonShift = 30;                // e = (n y0^2) >> 30
   localparam int StepShift = 18;                  // g = (y0 h) >> 18
   localparam int SeedShift = 9;                   // a seed serves 512 values of n
-  localparam logic [HW-1:0] ThreeHalves = HW'(3 << 20);  // 3 2^20: 1.5 in e's scale
+  localparam logic [HW-1:0] ThreeHalves = HW'((3 << 20) + 1);  // 3 2^20 + 1: 1.5 in e's scale, and the centring 1
   localparam logic signed [DirW-1:0] DirMax = DirW'((1 << DirFrac) - 1);
 
   if (SeedEntries != 313 || SeedFirst != 200 || DirFrac != 17 || DirW != 18) begin : g_bad_package
