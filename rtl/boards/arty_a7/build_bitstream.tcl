@@ -1,5 +1,5 @@
 # The bitstream of ts_arty_top for the Digilent Arty A7-100T (xc7a100tcsg324-1), in Vivado's non-project mode, as one
-# command from the repository's root (README, "The board"):
+# command from the repository's root (docs/board.md):
 #
 #   vivado -mode batch -source rtl/boards/arty_a7/build_bitstream.tcl -tclargs standalone
 #   vivado -mode batch -source rtl/boards/arty_a7/build_bitstream.tcl -tclargs spi
@@ -8,7 +8,7 @@
 # this script (write another with `tripsitter rom -o rtl/boards/arty_a7/ts_arty_rom.mem ...`); spi: the board with the
 # microcontroller on Pmod JD (STANDALONE = 0). A second argument names the output folder (default
 # build/vivado/arty-MODE/): the bitstream ts_arty_MODE.bit, the reports timing.rpt and utilization.rpt, and the
-# checkpoint after routing. Not run where this was written (no Vivado there): Yosys's figures are in README.
+# checkpoint after routing. Not run where this was written (no Vivado there): Yosys's figures are in docs/measured.md.
 set here [file dirname [file normalize [info script]]]
 set root [file normalize [file join $here .. .. ..]]
 

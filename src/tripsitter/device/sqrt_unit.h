@@ -8,7 +8,7 @@
 // The result x_N 2^e is rounded to the nearest integer.
 //
 // Accuracy: |x_N - sqrt(m)| <= 2^-N, so the result is within about 2^(e-N) + 1/2 of sqrt(D); for inputs
-// below 4^N it is within one unit. README gives the measured worst case for N = 16.
+// below 4^N it is within one unit. docs/measured.md gives the measured worst case for N = 16.
 //
 // The recurrence in closed form (docs/device.md, "Square-root unit"). In units of 2^-N, x_0 = 2^(N-1) and
 // step k moves x by 2^(N-1-k); c_k = x_k^2 exactly, so "c_k < m" is "x_k < sqrt(M)" with M = m 4^N, the

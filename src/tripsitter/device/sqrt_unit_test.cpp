@@ -69,7 +69,7 @@ TEST(SqrtUnit, RelativeErrorBoundForLargeInputs) {
   }
 }
 
-// The figure README quotes: the worst error of the 16-iteration unit, absolute below 2^32 (exhaustive
+// The figure docs/measured.md quotes: the worst error of the 16-iteration unit, absolute below 2^32 (exhaustive
 // over the first 2^22 inputs and every power-of-two neighbourhood, random elsewhere) and relative above.
 TEST(SqrtUnit, WorstCaseForSixteenIterations) {
   const SqrtUnit unit(16);
