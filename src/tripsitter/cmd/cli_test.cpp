@@ -62,6 +62,15 @@ TEST_F(Cli, RenderWritesTheDemoFrame) {
   EXPECT_EQ(img.value().at(320, 240), tripsitter::core::Rgb444(0x770));
 }
 
+// --quiet leaves out the summary (device, link, host) in every mode: what is left on stderr is the file written.
+TEST_F(Cli, QuietRenderSaysOnlyWhatItWrote) {
+  for (const char* mode : {"hw", "normal"}) {
+    const Result r = run("render --quiet --scene cluster --mode " + std::string(mode) + " --out " + path("q.png"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "wrote " + path("q.png") + " (640x480)\n") << mode;
+  }
+}
+
 TEST_F(Cli, NormalModeRendersOtherSizesAndComparesWithHw) {
   Result r = run("render --mode normal --width 320 --height 200 --out " + path("small.png"));
   ASSERT_EQ(r.exit_code, 0) << r.err;

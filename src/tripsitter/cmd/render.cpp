@@ -321,8 +321,9 @@ int run_render(const RenderOptions& o) {
   const modes::Frame* shown = &source->draw();
   for (int i = 1; i < frames; ++i) shown = &source->draw();
   const modes::Frame& frame = *shown;
-  if (const auto* hw = std::get_if<modes::HwFrame>(&frame)) report(*hw, frames, config.board.preset);
-  if (config.board.make_device)
+  const auto* hw = std::get_if<modes::HwFrame>(&frame);
+  if (hw != nullptr && !o.quiet) report(*hw, frames, config.board.preset);
+  if (config.board.make_device && !o.quiet)
     std::cerr << "device (RTL): simulated in "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()
               << " s, the world's transfer and the frames to its first one included\n";
