@@ -423,7 +423,7 @@ TEST_F(Cli, PathPresetComparesFrameMemoryWithTheFloatPathTracer) {
   // The text is checked for its form only, so a reference of 4 samples per pixel does (the reference was most of
   // this command's time; the JSON below, whose bias is checked, keeps 16).
   Result r = run("render --mode hw --preset path --scene cluster --spp 2 --depth 3 --accumulate 2 --compare "
-                 "--reference-spp 4 --threads 2 --quiet --out " + path("p.png"));
+                 "--reference-spp 4 --threads 2 --out " + path("p.png"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("vs float path tracer of the device's rays (same sky, 3 rays per path, 4 samples per pixel, "
                        "seed 1):"), std::string::npos) << r.out;
