@@ -55,18 +55,13 @@ CLI::Option* add_preset_option(CLI::App& cmd, std::string& preset, std::string_v
 }
 
 CLI::Option* add_wire_option(CLI::App& cmd, link::WireVersion& wire, std::string_view note) {
-  return cmd
-      .add_option_function<std::string>(
-          "--wire",
-          [&wire](const std::string& name) {
-            const auto parsed = link::wire_by_name(name);
-            if (!parsed) throw CLI::ValidationError("--wire", "unknown wire '" + name + "' (known: v1, v2, v3)");
-            wire = *parsed;
-          },
-          with_note("Link protocol: v1 (the board's 8-byte sphere word), v2 (framed worlds) or v3 (framed worlds "
-                    "with a header check and sessions)",
-                    note))
-      ->default_str(std::string(link::wire_name(wire)));
+  std::vector<std::pair<std::string, link::WireVersion>> choices;
+  for (link::WireVersion w : {link::WireVersion::kV1, link::WireVersion::kV2, link::WireVersion::kV3})
+    choices.emplace_back(link::wire_name(w), w);
+  return add_choice_option(cmd, "--wire", "wire", wire, choices,
+                           with_note("Link protocol: v1 (the board's 8-byte sphere word), v2 (framed worlds) or v3 "
+                                     "(framed worlds with a header check and sessions)",
+                                     note));
 }
 
 CLI::Option* add_mode_option(CLI::App& cmd, modes::Mode& mode, std::string_view note) {

@@ -109,6 +109,14 @@ void add_xyz(ExrImage& image, std::string_view layer, std::span<const float> xyz
   add_interleaved(image, layer, {"X", "Y", "Z"}, xyz);
 }
 
+void add_rgb(ExrImage& image, std::string_view layer, std::span<const core::Vec3f> rgb) {
+  add_rgb(image, layer, std::span<const float>(&rgb.data()->x, 3 * rgb.size()));
+}
+
+void add_xyz(ExrImage& image, std::string_view layer, std::span<const core::Vec3f> xyz) {
+  add_xyz(image, layer, std::span<const float>(&xyz.data()->x, 3 * xyz.size()));
+}
+
 void add_depth(ExrImage& image, std::span<const float> depth) {
   image.channels.push_back(ExrChannel{"Z", std::vector<float>(depth.begin(), depth.end()), ExrPixel::kFloat});
 }

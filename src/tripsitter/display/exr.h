@@ -24,6 +24,7 @@
 #include <vector>
 
 #include <tripsitter/core/result.h>
+#include <tripsitter/core/vec.h>
 #include <tripsitter/display/io.h>  // ExrPixel, how a channel's values are stored
 
 namespace tripsitter::display {
@@ -48,6 +49,9 @@ struct ExrImage {
 void add_rgb(ExrImage& image, std::string_view layer, std::span<const float> rgb);
 // The same with the vector channel names "<layer>.X", "<layer>.Y", "<layer>.Z".
 void add_xyz(ExrImage& image, std::string_view layer, std::span<const float> xyz);
+// The same from a buffer of vectors (an image's pixels, a feature buffer), one triple each.
+void add_rgb(ExrImage& image, std::string_view layer, std::span<const core::Vec3f> rgb);
+void add_xyz(ExrImage& image, std::string_view layer, std::span<const core::Vec3f> xyz);
 // Appends the depth channel "Z", stored as float whatever write_exr's type.
 void add_depth(ExrImage& image, std::span<const float> depth);
 

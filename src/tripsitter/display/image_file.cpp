@@ -10,14 +10,12 @@
 namespace tripsitter::display {
 namespace {
 
-std::span<const float> floats(std::span<const core::Vec3f> v) { return {&v.data()->x, 3 * v.size()}; }
-
 // Linear light as traced, the feature buffers present as layers.
 ExrImage exr_image(const ImageLayers& layers) {
   ExrImage image{layers.linear.width, layers.linear.height, {}};
-  add_rgb(image, "", floats(layers.linear.pixels));
-  if (!layers.albedo.empty()) add_rgb(image, "albedo", floats(layers.albedo));
-  if (!layers.normal.empty()) add_xyz(image, "normal", floats(layers.normal));
+  add_rgb(image, "", layers.linear.pixels);
+  if (!layers.albedo.empty()) add_rgb(image, "albedo", layers.albedo);
+  if (!layers.normal.empty()) add_xyz(image, "normal", layers.normal);
   if (!layers.depth.empty()) add_depth(image, layers.depth);
   return image;
 }

@@ -14,8 +14,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::span<const float> floats(const std::vector<render::Vec3f>& v) { return {&v.data()->x, 3 * v.size()}; }
-
 std::vector<render::Vec3f> layer(const display::ExrImage& image, const std::string& name) {
   const display::ExrChannel* c[3] = {display::find_channel(image, name + ".R"), display::find_channel(image, name + ".G"),
                                      display::find_channel(image, name + ".B")};
@@ -72,8 +70,8 @@ Reference PathQuality::render_reference(int orbit_steps, int spp) {
     if (!path.empty()) {
       std::filesystem::create_directories(path.parent_path());
       display::ExrImage image{settings_.width, settings_.height, {}};
-      display::add_rgb(image, "a", floats(a));
-      display::add_rgb(image, "b", floats(b));
+      display::add_rgb(image, "a", a);
+      display::add_rgb(image, "b", b);
       auto written = display::write_exr(path.string(), image, display::ExrPixel::kFloat);
       if (!written && settings_.say) settings_.say("could not keep the reference: " + written.error().message);
     }
