@@ -26,7 +26,7 @@
 #
 # Sources. ts_device: the link's package first (rtl/receiver/ts_link_pkg.sv: the receiver's blocks name ts_link_pkg::X,
 # so Yosys must have read it; Yosys 0.23 cannot parse `import`), then every rtl/*/ts_*.sv but rtl/artix/ and rtl/boards/. ts_artix_device:
-# its package first (rtl/artix/ts_artix_pkg.sv, likewise), the other rtl/artix/ts_*.sv, and the receiver's files (the
+# its package first (rtl/artix/ts_artix_pkg.sv, likewise), the other rtl/artix/ts_*.sv, rtl/common's, and the receiver's files (the
 # link's package first) and VGA files it shares with ts_device (TS_ARTIX_DEVICE_SOURCES of rtl/artix/CMakeLists.txt).
 #
 # Blocks. synth_xilinx keeps the hierarchy (no -flatten), so Yosys synthesises every module on its own, once for all
@@ -105,7 +105,7 @@ preset_sources() {
     for f in rtl/artix/ts_*.sv; do [ "$f" = rtl/artix/ts_artix_pkg.sv ] || echo "$f"; done
     echo rtl/receiver/ts_link_pkg.sv rtl/receiver/ts_spi_rx.sv rtl/receiver/ts_crc32.sv rtl/receiver/ts_rx_*.sv \
          rtl/receiver/ts_receiver.sv rtl/receiver/ts_scene_memory.sv
-    echo rtl/vga/ts_vga_timing.sv rtl/vga/ts_line_buffers.sv
+    echo rtl/vga/ts_vga_timing.sv rtl/vga/ts_line_buffers.sv rtl/common/ts_clock_gate.sv
   else
     echo rtl/receiver/ts_link_pkg.sv
     for f in rtl/*/ts_*.sv; do [[ "$f" == rtl/artix/* || "$f" == rtl/boards/* || "$f" == rtl/receiver/ts_link_pkg.sv ]] || echo "$f"; done

@@ -12,7 +12,7 @@
 // Timing: a pixel at the ports with in_valid in cycle t comes out with out_valid in cycle t + Latency (11), with
 // the in_tag it came with; one pixel a cycle, any pattern of gaps. col must be 0..639 and row 0..479 when in_valid
 // (the tables are not defined beyond); what the ports hold without in_valid is ignored. The block runs on a gated
-// clock (ts_artix_clock_gate) with an edge only while a pixel is at the ports or in the pipeline, or in reset: it
+// clock (ts_clock_gate) with an edge only while a pixel is at the ports or in the pipeline, or in reset: it
 // works 640 cycles of a line's 3,200.
 //
 // Pipeline (stage k's registers hold a pixel k + 1 cycles after it was at the ports):
@@ -108,7 +108,7 @@ module ts_artix_camera #(
   // ---- valid bits: the only state with a reset; the clock -------------------------------------------------------
   logic [Latency-1:0] valid_q;
   logic               gclk;
-  ts_artix_clock_gate gate (.clk, .en(rst || in_valid || |valid_q), .gclk);
+  ts_clock_gate gate (.clk, .en(rst || in_valid || |valid_q), .gclk);
   always_ff @(posedge gclk) begin
     if (rst) valid_q <= '0;
     else valid_q <= {valid_q[Latency-2:0], in_valid};

@@ -116,10 +116,10 @@ module ts_artix_tiles #(
     else if (flip) read_q <= ~read_q;
   end
 
-  // The builder runs on a gated clock (ts_artix_clock_gate) with an edge only from a build to its end, or in reset:
+  // The builder runs on a gated clock (ts_clock_gate) with an edge only from a build to its end, or in reset:
   // 10 max(build_count, 1) + 3 cycles a line.
   logic gclk;
-  ts_artix_clock_gate gate (.clk, .en(rst || build || busy_q), .gclk);
+  ts_clock_gate gate (.clk, .en(rst || build || busy_q), .gclk);
 
   always_ff @(posedge gclk) begin
     if (rst) begin

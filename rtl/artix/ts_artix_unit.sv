@@ -36,7 +36,7 @@
 // written for this row (two banks: `dir_we` writes the next row's while this one is read). `flush` is the
 // window's last cycle: a colour due in it is still written, everything else in flight is dropped after it.
 //
-// The clock. Everything here but the direction banks' write port runs on a gated clock (ts_artix_clock_gate, a
+// The clock. Everything here but the direction banks' write port runs on a gated clock (ts_clock_gate, a
 // BUFGCE): it has an edge in the cycles of `start`, `flush` and reset, and while the unit has work, that is while a
 // pass issues or its camera rays are not all taken, a slot is at stage 1 or 2, a pass is in flight (its record is
 // queued from its first slot to its hit, so the sphere unit holds no slot of any other), a reflected ray waits,
@@ -114,7 +114,7 @@ module ts_artix_unit #(
 
   // ---- the clock (see The clock) ------------------------------------------------------------------------------
   logic gclk, work, shade_busy;
-  ts_artix_clock_gate gate (.clk, .en(rst || start || flush || work), .gclk);
+  ts_clock_gate gate (.clk, .en(rst || start || flush || work), .gclk);
 
   // ---- the queue of reflected rays --------------------------------------------------------------------------
   logic   refl_valid;  // from the shading and reflection block: a reflected ray, known in this cycle

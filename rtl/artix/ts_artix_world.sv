@@ -11,7 +11,7 @@
 // `idle` is high when every write received has been prepared; the device swaps a world in only then (a world whose
 // preparation spans a vertical blanking is shown a frame later, as one whose commit spans it: ts_receiver.sv).
 //
-// The queue and the engine run on a gated clock (ts_artix_clock_gate) with an edge only while there is work: a write
+// The queue and the engine run on a gated clock (ts_clock_gate) with an edge only while there is work: a write
 // or a new world at the ports, a sphere queued or being prepared, prepare or cull not yet ready, or reset. They
 // work while a world arrives and sleep the rest of the time; the constants memory is on the device's clock.
 //
@@ -93,7 +93,7 @@ module ts_artix_world #(
       .col_lo(cull_col_lo), .col_hi(cull_col_hi), .row_lo(cull_row_lo), .row_hi(cull_row_hi)
   );
 
-  ts_artix_clock_gate gate (
+  ts_clock_gate gate (
       .clk, .en(rst || begin_write || we || !queue_empty || busy_q || !prep_ready || !cull_ready), .gclk
   );
 

@@ -158,9 +158,9 @@ Compared compare_worlds(const DevicePreset& preset, link::WireVersion wire, int 
   return compared;
 }
 
-// A simulated frame of the board-2023 top with ten workers takes 4 to 7 s here, with one worker about 0.6 s, of the
-// wide top with ten pipelined workers 25 to 30 s (each world costs two frames: the one it arrives in and the one
-// compared): many worlds with one worker, few with more.
+// A simulated frame of a random world with the board-2023 top's ten workers takes about 3 s here, with one worker
+// about 0.35 s, with the wide top's ten pipelined workers about 18 s (each world costs two frames: the one it arrives
+// in and the one compared): many worlds with one worker, few with more.
 TEST(DeviceRtl, Board2023TenWorkersV2) {
   compare_worlds(board_2023_preset(), link::WireVersion::kV2, 3, 1);
 }

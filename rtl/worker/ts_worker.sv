@@ -37,6 +37,11 @@
 //   t+27..       ts_shade.sv (5 cycles, 8 with the tint) and a delay to the drain, or ts_reflect.sv (19 cycles)
 // Widths follow docs/device.md, "Widths" (below).
 //
+// The clock. The worker runs on a gated clock (ts_clock_gate: a BUFGCE on the chip) with an edge at start, flush and
+// reset and while it is busy (a pixel in flight, a reflection stall, and the drain after the last pixel retires):
+// in every other cycle no register would change but a data register its valid bit masks. An idle worker costs the
+// chip no clock power and the simulation nothing (docs/rtl.md, "The workers' clocks").
+//
 // Multipliers (DSP48E1 slices on the board's FPGA). The pipelined worker gives every product its own. The
 // one-pixel-at-a-time worker issues a pair every PER_SPHERE cycles, and the sphere test multiplies in three of
 // them: t+1 (the camera ray's squares, on two of S2's multipliers), t+2 (S2) and t+4 (b^2 and 4ac'). Its shading
@@ -144,6 +149,12 @@ module ts_worker #(
 
   localparam logic [11:0] Background = 12'h036;
 
+  // ---- the worker's clock: gated (ts_clock_gate) to the cycles in which any of its registers can change ------
+  logic gclk;
+  logic busy_any;  // a pixel is in flight, or its colour is on its way to the done pulse
+  ts_clock_gate gate (.clk, .en(rst || flush || start || busy_any), .gclk);
+
+
   // ---- issue: the pair's tag (S0); the sphere's fields arrive with it in the next cycle -------------------
   logic              issue;        // a pair is issued this cycle
   logic [AW:0]       issue_j;      // its sphere
@@ -159,7 +170,7 @@ module ts_worker #(
   assign sphere_addr = issue_j[AW-1:0];
   assign sphere_rd = issue;
 
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (rst || flush || squash) begin
       s0_valid <= 1'b0;
       s0_first <= 1'b0;
@@ -216,7 +227,7 @@ module ts_worker #(
       .NUMW(NUMW), .ITERATIONS(SQRT_ITERATIONS), .PIPELINED(PIPELINED),
       .CYCLES_PER_ITERATION(PIPELINED != 0 ? 1 : SQRT_CYCLES_PER_ITERATION), .TAG_W(TAG_W)
   ) u_test (
-      .clk(clk),
+      .clk(gclk),
       .rst(rst),
       .flush(flush || squash),
       .in_valid(s0_valid),
@@ -298,7 +309,7 @@ module ts_worker #(
   assign reflect_now = REFLECT && pass_end && fin_hit && fin_metal && 32'(head_k) < MAX_BOUNCES;
   assign squash = reflect_now;
 
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (rst || flush) begin
       acc_hit <= 1'b0;
       acc_metal <= 1'b0;
@@ -327,7 +338,7 @@ module ts_worker #(
   logic [1:0]             pe_k;
   (* mem2reg *) logic [PW-1:0]          pe_p[3];
 
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (rst || flush) begin
       pe_valid <= 1'b0;
       pe_reflect <= 1'b0;
@@ -382,7 +393,7 @@ module ts_worker #(
       .NUMW(NUMW), .OCW(OCW), .RW(R_W), .DW(DW), .AAW(AAW), .YW(YW), .MAX_BOUNCES(MAX_BOUNCES), .PW(PW),
       .SHARED(PIPELINED == 0 ? 1 : 0), .BW(BW)
   ) u_shade (
-      .clk(clk),
+      .clk(gclk),
       .rst(rst),
       .flush(flush),
       .in_valid(shade_start),
@@ -420,7 +431,7 @@ module ts_worker #(
       assign pe_o[k] = pe_refl ? ray_o[k] : '0;
     end
     ts_reflect #(.NUMW(NUMW), .OCW(OCW), .OW(OW), .DW(DW), .AAW(AAW)) u_reflect (
-        .clk(clk),
+        .clk(gclk),
         .rst(rst),
         .flush(flush),
         .in_valid(pe_valid && pe_reflect),
@@ -453,7 +464,7 @@ module ts_worker #(
 
   // head_k, head_p: reset when the oldest pixel retires; a reflection adds one and multiplies in the metal's
   // albedo (one cycle later, from the pass-end registers).
-  always_ff @(posedge clk) begin
+  always_ff @(posedge gclk) begin
     if (rst || flush) begin
       head_k <= '0;
       for (int k = 0; k < 3; k++) head_p[k] <= PW'(1);
@@ -484,6 +495,16 @@ module ts_worker #(
     logic [QAW:0] in_flight;
     logic         take;       // the controller's pixel starts now
 
+    // After the oldest pixel retires its colour takes DRAIN - PASS_END more cycles to its done pulse: the clock
+    // runs on for DRAIN cycles after the last cycle with a pixel in flight (a counter on the free-running clock).
+    logic [5:0] linger;
+    always_ff @(posedge clk) begin
+      if (rst) linger <= '0;
+      else if (take || in_flight != '0 || stall != '0) linger <= 6'(DRAIN);
+      else if (linger != '0) linger <= linger - 6'd1;
+    end
+    assign busy_any = in_flight != '0 || stall != '0 || linger != '0;
+
     assign n_eff = sphere_count == '0 ? (AW + 1)'(1) : sphere_count;
     assign in_flight = tail - head;
     assign ready = !active && stall == '0 && in_flight < (QAW + 1)'(QD - 1);
@@ -497,14 +518,14 @@ module ts_worker #(
     assign issue_col = active ? q_col[iss[QAW-1:0]] : col;
     assign issue_row = active ? q_row[iss[QAW-1:0]] : row;
 
-    always_ff @(posedge clk) begin
+    always_ff @(posedge gclk) begin
       if (take) begin
         q_col[tail[QAW-1:0]] <= col;
         q_row[tail[QAW-1:0]] <= row;
       end
     end
 
-    always_ff @(posedge clk) begin
+    always_ff @(posedge gclk) begin
       if (rst || flush) begin
         head <= '0;
         iss <= '0;
@@ -560,7 +581,7 @@ module ts_worker #(
     assign dl_colour[0] = sh_colour;
     assign dl_bounces[0] = sh_bounces;
     for (genvar i = 0; i < DELAY; i++) begin : g_delay
-      always_ff @(posedge clk) begin
+      always_ff @(posedge gclk) begin
         if (rst || flush) begin
           dl_valid[i+1] <= 1'b0;
           dl_col[i+1] <= '0;
@@ -600,6 +621,7 @@ module ts_worker #(
 
     assign ready = busy == '0;
     assign take = start && ready;
+    assign busy_any = busy != '0;
     assign n_now = take ? sphere_count : n;
     assign issue = take ? sphere_count != '0 : busy != '0 && slot == '0 && j < n;
     assign issue_j = take ? '0 : j;
@@ -610,7 +632,7 @@ module ts_worker #(
     assign issue_col = take ? col : px_col;
     assign issue_row = take ? row : px_row;
 
-    always_ff @(posedge clk) begin
+    always_ff @(posedge gclk) begin
       if (rst || flush) begin
         busy <= '0;
         slot <= '0;
