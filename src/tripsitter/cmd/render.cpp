@@ -105,7 +105,15 @@ void report_resources(const modes::HwFrame& f, const device::DevicePreset& prese
                "frame memory %.1f Mbit (%s)\n",
                r.dsp_per_worker, r.dsp_shared, r.workers_fitting, device::kBoardDsp, preset.workers,
                static_cast<double>(r.frame_memory_bits) / 1e6,
-               r.frame_memory_in_bram ? "fits the block RAM" : "external SRAM: more than the 4.9 Mbit of block RAM");
+               !r.frame_memory_part.empty() ? "external: more than the 4.9 Mbit of block RAM"
+               : r.frame_memory_in_bram     ? "in the block RAM"
+                                            : "in the block RAM, whose 4.9 Mbit cannot hold it");
+  if (!r.frame_memory_part.empty())
+    std::fprintf(stderr,
+                 "device: frame memory in %s, %d pins: a line's reads and writes are %.1f%% of what its pins carry in "
+                 "a line, done in %.1f%% of the line at worst\n",
+                 r.frame_memory_part.c_str(), r.frame_memory_pins, 100 * r.frame_memory_demand,
+                 100 * r.frame_memory_busy);
 }
 
 void report(const modes::HwFrame& f, int frames, const device::DevicePreset& preset) {

@@ -24,6 +24,7 @@ namespace tripsitter::device {
 inline constexpr int kSampleBits = 9;     // a sample's channel: light times 2^9, at most 511
 inline constexpr int kMaxSamples = 255;   // per pixel, per world
 inline constexpr int kEpochs = 32;
+inline constexpr int kAccumEntryBits = 64;  // an entry in frame memory: 3 x 17 + 8 + 5
 
 struct AccumEntry {
   std::array<std::uint32_t, 3> sum{};  // 17 bits each: 255 * 511 < 2^17

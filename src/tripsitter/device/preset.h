@@ -55,7 +55,7 @@ struct CycleCosts {
 // Where the path preset's frame memory lives (docs/device.md, "Frame memory"): it changes only what the design
 // takes of the FPGA (resources.h), not what the device shows.
 enum class FrameMemoryPlace {
-  kExternal,  // external SRAM beside the FPGA (the board has footprints for it)
+  kExternal,  // external memory beside the FPGA: the development board's DDR3L (frame_dram.h)
   kBlockRam,  // the FPGA's block RAM
 };
 

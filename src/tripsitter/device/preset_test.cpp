@@ -74,7 +74,7 @@ TEST(Preset, ValidateNamesTheProblem) {
   EXPECT_FALSE(p.validate().has_value());
 }
 
-// The shipped presets model the hardware: late pixels untraced, the path preset's frame memory in external SRAM.
+// The shipped presets model the hardware: late pixels untraced, the path preset's frame memory in external memory.
 TEST(Preset, ShippedPresetsTraceNoLatePixelsAndKeepFrameMemoryOutside) {
   for (const std::string& name : preset_names()) {
     const DevicePreset p = *preset_by_name(name);

@@ -8,6 +8,8 @@
 
 #include <tripsitter/core/screen.h>
 #include <tripsitter/device/artix_kernel.h>
+#include <tripsitter/device/frame_dram.h>
+#include <tripsitter/device/frame_memory.h>
 
 namespace tripsitter::device {
 namespace {
@@ -167,10 +169,16 @@ Resources resources(const DevicePreset& p) {
                            &w.dielectric_reflect, &w.dielectric_refract, &w.throughput, &w.sky, &w.seed_hash,
                            &w.accumulate})
       out.dsp_shared += b->dsp();
-    out.frame_memory_bits = std::int64_t{64} * core::kScreenWidth * core::kScreenHeight;
+    out.frame_memory_bits = std::int64_t{kAccumEntryBits} * core::kScreenWidth * core::kScreenHeight;
     out.frame_memory_in_bram = out.frame_memory_bits <= kBoardBramBits;
-    if (p.path->frame_memory == FrameMemoryPlace::kExternal)
-      out.frame_memory_bits_per_cycle = 2.0 * 64 * kLineWidth / kLineCycles;
+    if (p.path->frame_memory == FrameMemoryPlace::kExternal) {
+      out.frame_memory_bits_per_cycle = 2.0 * kAccumEntryBits * kLineWidth / kLineCycles;
+      static const dram::LineTraffic traffic = dram::frame_traffic(kAccumEntryBits);
+      out.frame_memory_part = dram::kPartName;
+      out.frame_memory_pins = dram::kPins;
+      out.frame_memory_demand = traffic.demand();
+      out.frame_memory_busy = traffic.busy();
+    }
   } else if (p.max_bounces > 0) {
     out.dsp_per_worker += w.reflect.dsp();
   }

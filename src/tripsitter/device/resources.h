@@ -153,9 +153,16 @@ struct Resources {
   std::string chip_limit;
   std::int64_t frame_memory_bits = 0;  // path preset: 64 bits per pixel
   bool frame_memory_in_bram = false;   // whether frame memory's bits alone would fit the block RAM
-  // External SRAM traffic: frame memory's read and write of every pixel once per line time (0 when frame memory
-  // is in block RAM, or there is none).
+  // External frame memory's traffic: its read and write of every pixel once per line time, in bits per device cycle
+  // (0 when frame memory is in block RAM, or there is none).
   double frame_memory_bits_per_cycle = 0;
+  // The external part (frame_dram.h; empty when frame memory is in block RAM or there is none), the FPGA pins it
+  // takes, and a frame's traffic through it: the worst line period's bytes as a share of what its pins carry in a
+  // line period, and the share of the line period the controller takes for them (dram::LineTraffic).
+  std::string frame_memory_part;
+  int frame_memory_pins = 0;
+  double frame_memory_demand = 0;
+  double frame_memory_busy = 0;
   // Block RAM: every memory of the design (the header's list) and their total, in whole RAMB18E1 halves and in
   // bits (halves times kRamb18Bits, so that Kbit figures are whole halves), against the XC7A100T's.
   std::vector<BramMemory> memories;

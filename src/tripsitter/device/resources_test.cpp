@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <tripsitter/device/approx.h>
+#include <tripsitter/device/frame_dram.h>
 #include <tripsitter/device/frame_memory.h>
 
 namespace tripsitter::device {
@@ -124,8 +125,8 @@ TEST(Resources, TheWidePresetsReplicasOfSceneMemoryOverflowTheBlockRam) {
 }
 
 // The path preset: scene memory of 96 + 2 + 24 + 16 + 16 = 154 bits (36 halves a copy), its four tables, and frame
-// memory either in external SRAM (fits, 25.6 bits a cycle of SRAM traffic) or in block RAM (1,200 halves more,
-// four times the XC7A100T's 270).
+// memory either in the development board's DDR3L (fits, 25.6 bits a cycle of its traffic, a quarter of what its 48
+// pins carry: frame_dram.h) or in block RAM (1,200 halves more, four times the XC7A100T's 270).
 TEST(Resources, ThePathPresetFitsOnlyWithFrameMemoryOutside) {
   const Resources external = resources(path_preset());
   EXPECT_EQ(external.memories[2].width, 154);
@@ -133,6 +134,11 @@ TEST(Resources, ThePathPresetFitsOnlyWithFrameMemoryOutside) {
   EXPECT_EQ(external.bram18, 2 + 72 + 1 + 1 + 1 + 2);
   EXPECT_TRUE(external.bram_fits);
   EXPECT_DOUBLE_EQ(external.frame_memory_bits_per_cycle, 2.0 * 64 * 640 / 3200);
+  EXPECT_EQ(external.frame_memory_part, dram::kPartName);
+  EXPECT_EQ(external.frame_memory_pins, 48);
+  EXPECT_NEAR(external.frame_memory_demand, 10240.0 / (4 * 10399), 1e-9);
+  EXPECT_GT(external.frame_memory_busy, external.frame_memory_demand);
+  EXPECT_LT(external.frame_memory_busy, 0.8);
   DevicePreset p = path_preset();
   p.path->frame_memory = FrameMemoryPlace::kBlockRam;
   const Resources inside = resources(p);
@@ -141,6 +147,7 @@ TEST(Resources, ThePathPresetFitsOnlyWithFrameMemoryOutside) {
   EXPECT_EQ(inside.bram18, external.bram18 + 1200);
   EXPECT_FALSE(inside.bram_fits);
   EXPECT_DOUBLE_EQ(inside.frame_memory_bits_per_cycle, 0);
+  EXPECT_TRUE(inside.frame_memory_part.empty());
   EXPECT_EQ(inside.frame_memory_bits, external.frame_memory_bits);
   EXPECT_FALSE(inside.frame_memory_in_bram);  // would not fit even alone
 }

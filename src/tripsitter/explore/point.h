@@ -28,7 +28,7 @@ struct Configuration {
   int frames = 1;         // frames of the still world drawn; a path preset accumulates them in frame memory
   std::int64_t spi_hz = 0;
   std::int64_t transfer_bytes = 0;
-  std::string frame_memory;  // path preset only: "external" (SRAM beside the FPGA) or "bram"; empty otherwise
+  std::string frame_memory;  // path preset only: "external" (the board's DDR3L) or "bram"; empty otherwise
   std::string wire;          // v1 or v2
 
   bool path() const { return spp > 0; }
