@@ -161,12 +161,12 @@ std::uint64_t rsqrt_bit_trick(std::uint64_t m, int steps) {
 
 // ---- 1. Normalising a vector ----
 
-// approx::unit with another reciprocal square root: v_k y / 2^(17 + k).
+// approx::unit with another reciprocal square root: v_k y / 2^(31 - bits + k), a unit vector times 2^bits.
 template <class Rsqrt>
-approx::Unit3 unit_by(const Vec& v, const Rsqrt& rsqrt) {
+approx::Unit3 unit_by(const Vec& v, const Rsqrt& rsqrt, int bits = kUnitBits) {
   const Normalised n = normalise(static_cast<std::uint64_t>(core::dot(v, v)));
   const auto y = static_cast<std::int64_t>(rsqrt(n.m));
-  const int shift = 17 + n.k;
+  const int shift = 31 - bits + n.k;
   approx::Unit3 out;
   for (int k = 0; k < 3; ++k) out[k] = round_shift(static_cast<std::int64_t>(v[k]) * y, shift);
   return out;
@@ -240,6 +240,53 @@ Operation normalising(const SqrtUnit& sqrt_unit) {
                 "round 1",
                 {}, 0);
   c.error = measure([&sqrt_unit](const Vec& v) { return unit_by_division(v, sqrt_unit); });
+  op.candidates.push_back(c);
+  return op;
+}
+
+// ---- 1b. Normalising a scattered direction to the artix units' 2^17 (the artix path preset) ----
+
+Operation normalising_for_units() {
+  constexpr int kBits = 17;
+  std::mt19937_64 rng(7);
+  std::vector<Vec> inputs;
+  for (int i = 0; i < 32768; ++i) inputs.push_back(integer_vector(rng, log_uniform(rng, 8, 0x1p15)));
+  const auto measure = [&inputs](const auto& f) {
+    ErrorSum e;
+    for (const Vec& v : inputs) {
+      const approx::Unit3 u = f(v);
+      const double length = std::sqrt(static_cast<double>(core::dot(v, v)));
+      for (int k = 0; k < 3; ++k) e.add(off(u[k], static_cast<double>(v[k]) * 0x1p17 / length));
+    }
+    return e.error();
+  };
+  const Multiply kComponents{16, 17, 3};  // v_k y: |v_k| < 2^15 after the scatter
+  Operation op;
+  op.name = "Normalising a scattered direction to the sphere units' 2^17 (`approx::unit` at 17 bits, artix path)";
+  op.fed = "The artix path preset's bounce (artix_path.h): the scattered direction, in the path preset's 2^14 "
+           "unit vectors (n + u, a reflection with its fuzz, a refraction), made a unit direction times 2^17 for "
+           "the sphere units, whose geometric test takes |d| = 1. Sampled: 32,768 directions of log-uniform "
+           "length in [2^3, 2^15) (the bounce ends a path shorter than 2^3), uniform directions. Output: v / |v| "
+           "times 2^17, error per component in 2^-17. The table is approx::unit's, shared with the other "
+           "normalisations.";
+  Candidate c = candidate("192-entry table, 1 Newton-Raphson step, components at 17 bits", 12,
+                          "approx::unit's: shift 1, table 1, the step 7, components 2, round 1",
+                          {{16, 16}, {32, 32}, {16, 32}, kComponents}, 192 * 16, true);
+  c.error = measure([](const Vec& v) { return approx::unit(v, kBits); });
+  op.candidates.push_back(c);
+
+  const RsqrtSeeded twice(8, 2);
+  c = candidate("192-entry table, 2 Newton-Raphson steps", 19, "shift 1, table 1, two steps 14, components 2, round 1",
+                {{16, 16}, {32, 32}, {16, 32}, {17, 17}, {34, 32}, {17, 32}, kComponents}, twice.table_bits());
+  c.error = measure([&twice](const Vec& v) { return unit_by(v, twice, kBits); });
+  op.candidates.push_back(c);
+
+  c = candidate("the path preset's 2^14 unit vector, shifted left 3", 12, "approx::unit's, the shift free",
+                {{16, 16}, {32, 32}, {16, 32}, kComponents}, 192 * 16);
+  c.error = measure([](const Vec& v) {
+    const approx::Unit3 u = approx::unit(v);
+    return approx::Unit3{u.x * 8, u.y * 8, u.z * 8};
+  });
   op.candidates.push_back(c);
   return op;
 }
@@ -828,8 +875,8 @@ int Candidate::dsp() const {
 
 std::vector<Operation> evaluate() {
   const SqrtUnit sqrt_unit(path_preset().sqrt_iterations);
-  return {normalising(sqrt_unit), square_root(sqrt_unit), hit_point_division(), mean_division(), fifth_power(),
-          sine_cosine()};
+  return {normalising(sqrt_unit), normalising_for_units(), square_root(sqrt_unit), hit_point_division(),
+          mean_division(), fifth_power(), sine_cosine()};
 }
 
 std::string markdown(const std::vector<Operation>& operations) {

@@ -33,7 +33,7 @@ const Candidate& chosen(const Operation& op) {
 }
 
 TEST(ApproxBench, EveryOperationHasThreeCandidatesAndOneChosen) {
-  ASSERT_EQ(operations().size(), 6u);
+  ASSERT_EQ(operations().size(), 7u);
   for (const Operation& op : operations()) {
     EXPECT_GE(op.candidates.size(), 3u) << op.name;
     int chosen = 0;
@@ -46,6 +46,7 @@ TEST(ApproxBench, EveryOperationHasThreeCandidatesAndOneChosen) {
 TEST(ApproxBench, ChosenCandidatesStayWithinTheirBounds) {
   const std::vector<double> bounds = {
       1.0,   // a unit vector's component
+      4.0,   // a direction at the sphere units' 2^17 (the artix path preset)
       0.5,   // the square root: correctly rounded on the tracer's inputs
       0.5,   // the hit point: exact division
       0.75,  // the display's mean

@@ -58,18 +58,19 @@ inline const RsqrtTable& rsqrt_table() {
   return table;
 }
 
-// v / |v| as a unit vector, each component rounded to nearest: v.v normalised by an even shift into
-// m in [2^30, 2^32), its reciprocal square root from RsqrtTable, then one multiply and a shift per component.
-// REQUIRES v != 0 and |v_k| < 2^30.
-inline Unit3 unit(const core::Vec3<core::Int128>& v) {
+// v / |v| as a unit vector times 2^bits (the path preset's 14, the artix path preset's 17), each component rounded
+// to nearest: v.v normalised by an even shift into m in [2^30, 2^32), its reciprocal square root from RsqrtTable,
+// then one multiply and a shift per component. REQUIRES v != 0, |v_k| < 2^30, and v.v >= 2^(2 (bits - 14)).
+inline Unit3 unit(const core::Vec3<core::Int128>& v, int bits = kUnitBits) {
   const auto s = static_cast<std::uint64_t>(v.x * v.x + v.y * v.y + v.z * v.z);  // < 2^61.6
   assert(s > 0);
   const int e = std::bit_width(s) - 31;
   const int k = e >= 0 ? e / 2 : -((1 - e) / 2);  // floor(e / 2)
   const std::uint64_t m = k >= 0 ? s >> (2 * k) : s << (-2 * k);
   const auto y = static_cast<std::int64_t>(rsqrt_table()(m));
-  // 1/|v| = y 2^-16 2^-15 2^-k, so v_k 2^14 / |v| = v_k y / 2^(17 + k); k >= -15.
-  const int shift = 17 + k;
+  // 1/|v| = y 2^-16 2^-15 2^-k, so v_k 2^bits / |v| = v_k y / 2^(31 - bits + k); k >= -15.
+  const int shift = 31 - bits + k;
+  assert(shift >= 1);
   return {round_shift(static_cast<std::int64_t>(v.x) * y, shift), round_shift(static_cast<std::int64_t>(v.y) * y, shift),
           round_shift(static_cast<std::int64_t>(v.z) * y, shift)};
 }

@@ -144,8 +144,9 @@ Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, int exc
 namespace {
 
 // The normal at the hit of `ray` on `s` as exact integers: n_k = Q_k / R, with Q_k = -(f_k 2^z + s d_k 2^(e + z))
-// and R = r 2^(D + z), z = max(0, -e) (so R = r_s 2^(D + max(e, 0))).
-Vec3i scaled_normal(const UnitRay& ray, const UnitSphere& s, std::int64_t& scale) {
+// and R = r 2^(D + z), z = max(0, -e) (so R = r_s 2^(D + max(e, 0))); at the far root p - c = -(f - s d), so the
+// second term's sign turns.
+Vec3i scaled_normal(const UnitRay& ray, const UnitSphere& s, std::int64_t& scale, bool far = false) {
   constexpr int D = kDirectionFrac;
   const Quadratic q = quadratic(ray, s);
   assert(q.disc >= 0);
@@ -156,7 +157,8 @@ Vec3i scaled_normal(const UnitRay& ray, const UnitSphere& s, std::int64_t& scale
   Vec3i n{};
   for (std::size_t k = 0; k < 3; ++k) {
     const std::int64_t f = q.f[k] - ((beta * ray.d[k]) >> D);
-    n[k] = -((f << z) + ((q.s * ray.d[k]) << (s.e + z)));
+    const std::int64_t along = (q.s * ray.d[k]) << (s.e + z);
+    n[k] = -((f << z) + (far ? -along : along));
     check(n[k], 40, "a normal's numerator");
   }
   return n;
@@ -164,10 +166,10 @@ Vec3i scaled_normal(const UnitRay& ray, const UnitSphere& s, std::int64_t& scale
 
 }  // namespace
 
-Vec3i normal(const UnitRay& ray, const UnitSphere& s) {
+Vec3i normal(const UnitRay& ray, const UnitSphere& s, bool far) {
   constexpr int D = kDirectionFrac;
   std::int64_t scale = 0;
-  const Vec3i q = scaled_normal(ray, s, scale);
+  const Vec3i q = scaled_normal(ray, s, scale, far);
   Vec3i n{};
   for (std::size_t k = 0; k < 3; ++k) {
     const std::int64_t top = q[k] >> (D + std::max(s.e, 0) + 1);  // n_k r_s / 2: 18 bits signed
@@ -189,18 +191,32 @@ core::Rgb444 normal_colour(const UnitRay& ray, const UnitSphere& s) {
   return core::Rgb444::from_channels(ch[0], ch[1], ch[2]);
 }
 
-UnitRay reflect(const UnitRay& ray, const UnitSphere& s, std::int64_t td) {
+std::int64_t far_td(const UnitRay& ray, const UnitSphere& s) {
+  const Quadratic q = quadratic(ray, s);
+  return q.disc < 0 ? -1 : q.bd + (q.s << (kDirectionFrac + s.e));
+}
+
+Vec3i hit_point(const UnitRay& ray, std::int64_t td) {
   constexpr int D = kDirectionFrac;
   assert(td > 0);
-  const Vec3i n = normal(ray, s);
   const std::int64_t t = (td + (std::int64_t{1} << (D - 1))) >> D;
   check(t, 24, "t");
+  Vec3i p{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    p[k] = ray.o[k] + ((t * ray.d[k] + (std::int64_t{1} << (D - 1))) >> D);
+    check(p[k], kOriginBits - 1, "a hit point");
+  }
+  return p;
+}
+
+UnitRay reflect(const UnitRay& ray, const UnitSphere& s, std::int64_t td) {
+  constexpr int D = kDirectionFrac;
+  const Vec3i n = normal(ray, s);
   UnitRay out;
+  out.o = hit_point(ray, td);
   // |d|, |n| <= 1 + 2^-16 or so: d.n may pass 1 by a few units, and the product's 18-bit operand saturates.
   const std::int64_t dn = std::clamp(dot(ray.d, n) >> D, -kDirectionMax, kDirectionMax);
   for (std::size_t k = 0; k < 3; ++k) {
-    out.o[k] = ray.o[k] + ((t * ray.d[k] + (std::int64_t{1} << (D - 1))) >> D);
-    check(out.o[k], kOriginBits - 1, "a hit point");
     const std::int64_t twice = (dn * n[k] + (std::int64_t{1} << (D - 2))) >> (D - 1);  // 2 (d.n) n_k
     out.d[k] = std::clamp(ray.d[k] - twice, -kDirectionMax, kDirectionMax);
   }

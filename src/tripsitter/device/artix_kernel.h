@@ -97,8 +97,13 @@ Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, std::sp
 // The closest hit over every sphere but `excluded`: the sphere units' plain search.
 Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, int excluded);
 
-// The unit normal at the hit of `ray` on `s`, times 2^17 (saturated to 18 bits).
-Vec3i normal(const UnitRay& ray, const UnitSphere& s);
+// The unit normal at the hit of `ray` on `s`, times 2^17 (saturated to 18 bits): at the near root, or with `far`
+// at the far root b + s 2^e (a ray inside the sphere; the artix path preset's dielectrics).
+Vec3i normal(const UnitRay& ray, const UnitSphere& s, bool far = false);
+// The far root's t d of `ray` on `s`, b + s 2^e times 2^17, when the ray meets the sphere; else -1.
+std::int64_t far_td(const UnitRay& ray, const UnitSphere& s);
+// The hit point o + round(t) d of `ray` at td > 0, on the position grid: where a reflected ray starts.
+Vec3i hit_point(const UnitRay& ray, std::int64_t td);
 // The normal-map colour of the hit of `ray` on `s`: floor(7 n_k + 7) clamped to 0..14, exact (a four-bit quotient).
 core::Rgb444 normal_colour(const UnitRay& ray, const UnitSphere& s);
 // The ray reflected off `s`, which `ray` hits at td (> 0).

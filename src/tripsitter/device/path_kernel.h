@@ -134,6 +134,122 @@ approx::Unit3 checked_unit(const Arith& arith, const core::Vec3<core::Int128>& v
   return checked(arith, approx::unit(v), core::Width::kUnitVector);
 }
 
+// The sky's light along a direction whose unit vector's up component (-y, times 2^14) is `up`, times `throughput`
+// (times 2^16 each): the float path tracer's blend of white and blue by a = (1 + up)/2.
+template <class Arith>
+std::array<std::int64_t, 3> sky_light(const Arith& arith, const std::array<std::int64_t, 3>& throughput,
+                                      std::int64_t up) {
+  using approx::kUnit;
+  const std::int64_t a = (kUnit + up + 1) >> 1;  // 0..2^14
+  constexpr std::array<std::int64_t, 3> kBottom{65536, 65536, 65536};
+  constexpr std::array<std::int64_t, 3> kTop{32768, 45875, 65536};
+  std::array<std::int64_t, 3> light{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::int64_t sky = kBottom[k] + approx::round_shift((kTop[k] - kBottom[k]) * a, approx::kUnitBits);
+    arith.check(throughput[k] * sky, core::Width::kLight);
+    light[k] = approx::round_shift(throughput[k] * sky, 16);
+  }
+  return light;
+}
+
+// What one bounce does (the header's rules by material): the next ray's direction, not normalised (times 2^14
+// for a unit vector), and whether it goes into the sphere; or the ray goes straight on (a dielectric of index 1:
+// the caller keeps its direction), or the path is absorbed (fuzz below the surface). `n` is the outward unit
+// normal at the hit, `inside` whether the hit is the far side of the sphere the ray is in, incoming() the ray's
+// unit direction (asked only by the materials that use it), draw() the sample's next random number. Both path
+// tracers of the device take it: the path preset's (below) and the artix path preset's (artix_path.h).
+enum class Bounce { kScattered, kStraight, kAbsorbed };
+struct Scattered {
+  Bounce bounce = Bounce::kScattered;
+  approx::Unit3 next;
+  bool into = false;
+};
+
+template <class Arith, class Incoming, class Draw>
+Scattered scatter(const Arith& arith, const PathSurface& surface, const approx::Unit3& n, bool inside,
+                  const Incoming& incoming, const Draw& draw, PathCounters& counters) {
+  using approx::kUnit;
+  using approx::kUnitBits;
+  using approx::round_shift;
+  using approx::Unit3;
+  using core::Int128;
+  const auto sqrt = [&arith](Int128 x) { return arith.sqrt(x); };
+  Scattered out;
+  switch (surface.material) {
+    case link::kMaterialMetal: {
+      ++counters.metal;
+      out.next = approx::reflect(incoming(), n);
+      if (surface.fuzz != 0) {
+        const Unit3 u = checked(arith, approx::random_unit(draw(), sqrt), core::Width::kUnitVector);
+        for (int k = 0; k < 3; ++k) out.next[k] += round_shift(u[k] * surface.fuzz, 16);
+      }
+      if (core::dot(out.next, n) <= 0) {  // fuzz pushed it below the surface
+        ++counters.absorbed;
+        out.bounce = Bounce::kAbsorbed;
+      }
+      return out;
+    }
+    case link::kMaterialDielectric: {
+      ++counters.dielectric;
+      const bool front = !inside;
+      if (surface.passes_straight) {
+        out.bounce = Bounce::kStraight;
+        out.into = front;
+        return out;
+      }
+      const Unit3 nf = front ? n : -n;
+      const Unit3 in = incoming();
+      const std::int64_t cos = std::min(-approx::dot_unit(in, nf), kUnit);
+      const std::int64_t eta = front ? surface.eta_enter : surface.eta_leave;
+      const std::int64_t sin2 = kUnit * kUnit - cos * cos;  // times 2^28
+      const bool total_internal = static_cast<Int128>(eta * eta) * sin2 > (Int128{1} << 56);
+      const std::int64_t reflectance =
+          surface.r0 + round_shift((kUnit - surface.r0) * approx::pow5(kUnit - std::max<std::int64_t>(cos, 0)), kUnitBits);
+      arith.check(reflectance, core::Width::kReflectance);
+      const bool reflects = total_internal || static_cast<std::int64_t>(draw() >> 18) < reflectance;
+      if (reflects) {
+        out.next = approx::reflect(in, nf);
+        out.into = !front;  // reflected inside, the ray stays in
+      } else {
+        ++counters.refracted;
+        Unit3 perp;
+        for (int k = 0; k < 3; ++k) perp[k] = round_shift(eta * (in[k] + round_shift(cos * nf[k], kUnitBits)), kUnitBits);
+        checked(arith, perp, core::Width::kRefractPerp);
+        const std::int64_t q = kUnit * kUnit - core::dot(perp, perp);
+        arith.check(q, core::Width::kRadicand);
+        const auto along = static_cast<std::int64_t>(arith.sqrt(q < 0 ? -q : q));
+        for (int k = 0; k < 3; ++k) out.next[k] = perp[k] - round_shift(along * nf[k], kUnitBits);
+        out.into = front;  // refracted in, or out
+      }
+      return out;
+    }
+    default: {
+      ++counters.lambertian;
+      const Unit3 u = checked(arith, approx::random_unit(draw(), sqrt), core::Width::kUnitVector);
+      out.next = n + u;
+      if (core::dot(out.next, out.next) < (std::int64_t{1} << 16)) out.next = n;  // |n + u| < 2^-6: the normal
+      return out;
+    }
+  }
+}
+
+// A bounce that led to another ray, counted by the material that scattered it.
+inline void count_bounce(const PathSurface& surface, PathBounces& bounces) {
+  switch (surface.material) {
+    case link::kMaterialMetal: ++bounces.metal; break;
+    case link::kMaterialDielectric: ++bounces.dielectric; break;
+    default: ++bounces.lambertian; break;
+  }
+}
+// The path's throughput (times 2^16 per channel) times the albedo of the surface it bounced off.
+template <class Arith>
+void take_albedo(const Arith& arith, const PathSurface& surface, std::array<std::int64_t, 3>& throughput) {
+  for (std::size_t k = 0; k < 3; ++k) {
+    throughput[k] = (throughput[k] * surface.albedo[k] + (1 << 15)) >> 16;
+    arith.check(throughput[k], core::Width::kThroughput);
+  }
+}
+
 // One sample of the pixel whose camera ray is d0. closest(path) returns the path ray's PathHit (the plain
 // search, or the fast model's). `depth` rays at most (1..). Arith is FixedArith, or the fast model's with the same
 // square root in closed form (FastTracer).
@@ -143,9 +259,6 @@ PathSample trace_path_sample(const Arith& arith, const core::Vec3<core::Int128>&
                              std::span<const PathSurface> surfaces, int depth, PathRng& rng, PathCounters& counters,
                              const Closest& closest) {
   using core::Int128;
-  using approx::kUnit;
-  using approx::kUnitBits;
-  using approx::round_shift;
   using approx::Unit3;
   PathSample out;
   PathRay path{{{}, d0}, -1, false};
@@ -155,24 +268,14 @@ PathSample trace_path_sample(const Arith& arith, const core::Vec3<core::Int128>&
     ++counters.draws;
     return rng.next();
   };
-  const auto sqrt = [&arith](core::Int128 x) { return arith.sqrt(x); };
   for (int rays = 1;; ++rays) {
     ++counters.rays;
     out.rays = rays;
     const PathHit hit = closest(path);
     const core::Vec3<Int128>& d = path.ray.direction;
     if (hit.index < 0) {
-      // The sky: the float path tracer's blend of white and blue by a = (1 + up.d^)/2, up = -y in view space.
       ++counters.sky;
-      const std::int64_t up = -checked_unit(arith, d).y;
-      const std::int64_t a = (kUnit + up + 1) >> 1;  // 0..2^14
-      constexpr std::array<std::int64_t, 3> kBottom{65536, 65536, 65536};
-      constexpr std::array<std::int64_t, 3> kTop{32768, 45875, 65536};
-      for (std::size_t k = 0; k < 3; ++k) {
-        const std::int64_t sky = kBottom[k] + round_shift((kTop[k] - kBottom[k]) * a, kUnitBits);
-        arith.check(throughput[k] * sky, core::Width::kLight);
-        out.light[k] = round_shift(throughput[k] * sky, 16);
-      }
+      out.light = sky_light(arith, throughput, -checked_unit(arith, d).y);
       return out;
     }
     if (rays == depth) {
@@ -195,81 +298,20 @@ PathSample trace_path_sample(const Arith& arith, const core::Vec3<core::Int128>&
     }
     if (m.x == 0 && m.y == 0 && m.z == 0) m = {0, 0, -1};  // a radius-1 sphere seen head-on: the grid's centre
     const Unit3 n = checked_unit(arith, m);
-    Unit3 next;
-    PathRay bounced{{p, {}}, hit.index, false};
-    switch (surface.material) {
-      case link::kMaterialMetal: {
-        ++counters.metal;
-        const Unit3 in = checked_unit(arith, d);
-        next = approx::reflect(in, n);
-        if (surface.fuzz != 0) {
-          const Unit3 u = checked(arith, approx::random_unit(draw(), sqrt), core::Width::kUnitVector);
-          for (int k = 0; k < 3; ++k) next[k] += round_shift(u[k] * surface.fuzz, 16);
-        }
-        if (core::dot(next, n) <= 0) {  // fuzz pushed it below the surface
-          ++counters.absorbed;
-          return out;
-        }
-        break;
-      }
-      case link::kMaterialDielectric: {
-        ++counters.dielectric;
-        const bool front = !hit.inside;
-        if (surface.passes_straight) {
-          bounced.into = front;
-          for (int k = 0; k < 3; ++k) next[k] = static_cast<std::int64_t>(d[k]);
-          break;
-        }
-        const Unit3 nf = front ? n : -n;
-        const Unit3 in = checked_unit(arith, d);
-        const std::int64_t cos = std::min(-approx::dot_unit(in, nf), kUnit);
-        const std::int64_t eta = front ? surface.eta_enter : surface.eta_leave;
-        const std::int64_t sin2 = kUnit * kUnit - cos * cos;  // times 2^28
-        const bool total_internal = static_cast<Int128>(eta * eta) * sin2 > (Int128{1} << 56);
-        const std::int64_t reflectance =
-            surface.r0 + round_shift((kUnit - surface.r0) * approx::pow5(kUnit - std::max<std::int64_t>(cos, 0)), kUnitBits);
-        arith.check(reflectance, core::Width::kReflectance);
-        const bool reflects = total_internal || static_cast<std::int64_t>(draw() >> 18) < reflectance;
-        if (reflects) {
-          next = approx::reflect(in, nf);
-          bounced.into = !front;  // reflected inside, the ray stays in
-        } else {
-          ++counters.refracted;
-          Unit3 perp;
-          for (int k = 0; k < 3; ++k) perp[k] = round_shift(eta * (in[k] + round_shift(cos * nf[k], kUnitBits)), kUnitBits);
-          checked(arith, perp, core::Width::kRefractPerp);
-          const std::int64_t q = kUnit * kUnit - core::dot(perp, perp);
-          arith.check(q, core::Width::kRadicand);
-          const auto along = static_cast<std::int64_t>(arith.sqrt(q < 0 ? -q : q));
-          for (int k = 0; k < 3; ++k) next[k] = perp[k] - round_shift(along * nf[k], kUnitBits);
-          bounced.into = front;  // refracted in, or out
-        }
-        break;
-      }
-      default: {
-        ++counters.lambertian;
-        const Unit3 u = checked(arith, approx::random_unit(draw(), sqrt), core::Width::kUnitVector);
-        next = n + u;
-        if (core::dot(next, next) < (std::int64_t{1} << 16)) next = n;  // |n + u| < 2^-6: the normal itself
-        break;
-      }
-    }
+    Scattered bounce =
+        scatter(arith, surface, n, hit.inside, [&] { return checked_unit(arith, d); }, draw, counters);
+    if (bounce.bounce == Bounce::kAbsorbed) return out;
+    if (bounce.bounce == Bounce::kStraight)
+      bounce.next = {static_cast<std::int64_t>(d.x), static_cast<std::int64_t>(d.y), static_cast<std::int64_t>(d.z)};
+    const Unit3& next = bounce.next;
     if (next.x == 0 && next.y == 0 && next.z == 0) {  // no direction left (a refraction at a grazing 0)
       ++counters.absorbed;
       return out;
     }
     checked(arith, next, core::Width::kScattered);
-    for (std::size_t k = 0; k < 3; ++k) {
-      throughput[k] = (throughput[k] * surface.albedo[k] + (1 << 15)) >> 16;
-      arith.check(throughput[k], core::Width::kThroughput);
-    }
-    bounced.ray.direction = {next.x, next.y, next.z};
-    path = bounced;
-    switch (surface.material) {
-      case link::kMaterialMetal: ++out.bounces.metal; break;
-      case link::kMaterialDielectric: ++out.bounces.dielectric; break;
-      default: ++out.bounces.lambertian; break;
-    }
+    take_albedo(arith, surface, throughput);
+    path = PathRay{{p, {next.x, next.y, next.z}}, hit.index, bounce.into};
+    count_bounce(surface, out.bounces);
   }
 }
 
