@@ -190,6 +190,33 @@ TEST(ArtixSchedule, AReflectedRayWaitsWhileTheUnitTakesItsNextPixel) {
   EXPECT_EQ(finish[6], 62);
 }
 
+// The artix path preset's line: a column's samples are chains of their own, a bounce waits for the scatter, and a
+// converged pixel takes no issue slot. One unit per two columns, 10 spheres, the artix path preset's latencies
+// (hit 40, scatter 69, colour 32).
+TEST(ArtixSchedule, SamplesAreChainsAndAConvergedPixelTakesNoSlot) {
+  DevicePreset p = artix_path_preset();
+  p.workers = 320;
+  ASSERT_EQ(p.units->hit_latency, 40);
+  ASSERT_EQ(p.units->reflect_latency, 69);
+  ASSERT_EQ(p.units->shade_latency, 32);
+  artix::LineChains work;
+  for (int c = 0; c <= kLineWidth; ++c) {
+    work.start.push_back(static_cast<int>(work.passes.size()));
+    if (c == 5) work.passes.insert(work.passes.end(), {2, 1});  // two samples: one bounces once
+    if (c == 325 || c == 326) work.passes.push_back(1);        // a sample that meets nothing
+  }
+  const std::vector<int> tests(kLineWidth, 10);
+  const auto finish = artix::unit_finish_cycles(p, 10, work, tests);
+  // Unit 5: column 5's first sample issues [0, 10), its hit is known at 50 and its bounce waits from 119; its
+  // second sample issues [10, 20), known at 60; column 325 issues [20, 30), known at 70, done at 102; the bounce
+  // issues [119, 129), known at 169: column 5 is done at 201, after both its samples.
+  EXPECT_EQ(finish[325], 102);
+  EXPECT_EQ(finish[5], 201);
+  // Unit 6: column 6 traces nothing (converged), shown 32 cycles after the unit reaches it; 326 issues [0, 10).
+  EXPECT_EQ(finish[6], 32);
+  EXPECT_EQ(finish[326], 82);
+}
+
 TEST(ArtixSchedule, AHeavyLineIsLateFromTheLeadOn) {
   const DevicePreset p = artix_preset();
   const std::vector<int> tests(kLineWidth, 400);
@@ -213,8 +240,9 @@ TEST(ArtixPreset, ValidateKeepsTheOperandsInTheSlices) {
   p = artix_preset();
   p.units->tile_columns = 30;
   EXPECT_TRUE(p.validate().has_value());
-  p = artix_preset();
-  p.path = DevicePath{};
+  EXPECT_FALSE(artix_path_preset().validate().has_value());  // the units path-trace too
+  p = artix_path_preset();
+  p.x = {23, 4, true};
   EXPECT_TRUE(p.validate().has_value());
 }
 

@@ -5,6 +5,7 @@
 #include <cassert>
 #include <deque>
 
+#include <tripsitter/device/artix_path.h>
 #include <tripsitter/device/worker.h>
 
 namespace tripsitter::device::artix {
@@ -55,30 +56,40 @@ RowTiles row_tiles(const UnitWorld& world, int row, int tile_columns) {
   return t;
 }
 
-std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres,
-                                             std::span<const core::PixelTrace> pixels,
+std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres, const LineChains& work,
                                              std::span<const int> camera_tests) {
-  assert(preset.units && pixels.size() == kLineWidth && camera_tests.size() == kLineWidth);
+  assert(preset.units && work.start.size() == kLineWidth + 1 && camera_tests.size() == kLineWidth);
   const DeviceUnits& u = *preset.units;
   const std::int64_t reflected_pass = std::max<std::int64_t>(u.min_pass, spheres);
   std::vector<std::int64_t> finish(kLineWidth, 0);
   struct Waiting {
-    std::int64_t known;  // the cycle the reflected ray is in the queue
+    std::int64_t known;  // the cycle the bounced ray is in the queue
     int col;
+    int chain;           // index into work.passes
     int pass;
   };
   for (int unit = 0; unit < preset.workers; ++unit) {
     std::deque<Waiting> queue;  // in the order known, as passes end in the order they issued
     std::int64_t cycle = 0;     // the issue port is free from this cycle
     int next_col = unit;
+    int next_chain = work.start[static_cast<std::size_t>(unit)];
     while (true) {
+      // A column with no chains (a converged path pixel) takes no issue slot: its colour is shown from frame memory.
+      while (next_col < kLineWidth && work.start[static_cast<std::size_t>(next_col) + 1] == next_chain) {
+        finish[static_cast<std::size_t>(next_col)] = cycle + u.shade_latency;
+        next_col += preset.workers;
+        if (next_col < kLineWidth) next_chain = work.start[static_cast<std::size_t>(next_col)];
+      }
       Waiting job{};
       if (!queue.empty() && queue.front().known <= cycle) {
         job = queue.front();
         queue.pop_front();
       } else if (next_col < kLineWidth) {
-        job = {cycle, next_col, 0};
-        next_col += preset.workers;
+        job = {cycle, next_col, next_chain, 0};
+        if (++next_chain == work.start[static_cast<std::size_t>(next_col) + 1]) {
+          next_col += preset.workers;
+          if (next_col < kLineWidth) next_chain = work.start[static_cast<std::size_t>(next_col)];
+        }
       } else if (!queue.empty()) {
         job = queue.front();
         queue.pop_front();
@@ -89,13 +100,28 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::in
       const auto c = static_cast<std::size_t>(job.col);
       cycle += job.pass == 0 ? std::max<std::int64_t>(u.min_pass, camera_tests[c]) : reflected_pass;
       const std::int64_t known = cycle + u.hit_latency;
-      if (job.pass < pixels[c].bounces)
-        queue.push_back({known + u.reflect_latency, job.col, job.pass + 1});
+      if (job.pass + 1 < work.passes[static_cast<std::size_t>(job.chain)])
+        queue.push_back({known + u.reflect_latency, job.col, job.chain, job.pass + 1});
       else
-        finish[c] = known + u.shade_latency;
+        finish[c] = std::max(finish[c], known + u.shade_latency);
     }
   }
   return finish;
+}
+
+std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres,
+                                             std::span<const core::PixelTrace> pixels,
+                                             std::span<const int> camera_tests) {
+  assert(pixels.size() == kLineWidth);
+  LineChains work;
+  work.start.resize(kLineWidth + 1);
+  work.passes.resize(kLineWidth);
+  for (std::size_t c = 0; c < kLineWidth; ++c) {
+    work.start[c] = static_cast<int>(c);
+    work.passes[c] = 1 + pixels[c].bounces;
+  }
+  work.start[kLineWidth] = kLineWidth;
+  return unit_finish_cycles(preset, spheres, work, camera_tests);
 }
 
 LineResult schedule_units(const DevicePreset& preset, std::int64_t spheres, std::span<const core::PixelTrace> pixels,
@@ -132,6 +158,52 @@ LineResult render_line(const DevicePreset& preset, const UnitWorld& world, int r
         });
   }
   return schedule_units(preset, static_cast<std::int64_t>(spheres.size()), pixels, tests, line);
+}
+
+LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, int row, const PathFrame& frame,
+                            std::span<AccumEntry> memory, std::span<core::Rgb444> line, PathCounters& counters,
+                            Search search) {
+  const int tile_columns = preset.units->tile_columns;
+  const RowTiles tiles = row_tiles(world, row, tile_columns);
+  const std::span<const UnitSphere> spheres(world.spheres);
+  std::array<int, kLineWidth> tests{};
+  std::array<PathPixel, kLineWidth> pixels{};
+  LineChains work;
+  work.start.reserve(kLineWidth + 1);
+  work.passes.reserve(static_cast<std::size_t>(kLineWidth) * static_cast<std::size_t>(frame.spp));
+  static const PathArith arith;
+  for (int col = 0; col < kLineWidth; ++col) {
+    const auto c = static_cast<std::size_t>(col);
+    const std::span<const int> list = tiles.list(col / tile_columns);
+    tests[c] = static_cast<int>(list.size());
+    work.start.push_back(static_cast<int>(work.passes.size()));
+    const auto closest = [&](const PathUnitRay& path) {
+      const Hit near = path.from < 0 && search == Search::kTiles ? closest_hit(path.ray, spheres, list, path.from)
+                                                                  : closest_hit(path.ray, spheres, path.from);
+      return with_far_side(path, near, spheres);
+    };
+    pixels[c] = path_pixel(arith, col, row, memory[c], frame, [&](PathRng& rng) {
+      const PathSample s = trace_path_sample(col, row, spheres, frame.surfaces, frame.depth, rng, counters, closest);
+      work.passes.push_back(s.rays);
+      return s;
+    });
+  }
+  work.start.push_back(static_cast<int>(work.passes.size()));
+  const std::vector<std::int64_t> finish =
+      unit_finish_cycles(preset, static_cast<std::int64_t>(spheres.size()), work, tests);
+  LineResult result;
+  for (std::size_t c = 0; c < kLineWidth; ++c) {
+    result.demand_cycles = std::max(result.demand_cycles, finish[c]);
+    if (finish[c] > preset.lead_cycles) {
+      line[c] = core::kBlack;
+      ++result.late_pixels;
+      continue;
+    }
+    line[c] = pixels[c].colour;
+    memory[c] = pixels[c].entry;
+    result.rays += pixels[c].rays;
+  }
+  return result;
 }
 
 }  // namespace tripsitter::device::artix

@@ -25,6 +25,8 @@
 #include <tripsitter/core/screen.h>
 #include <tripsitter/core/sphere_kernel.h>
 #include <tripsitter/device/artix_kernel.h>
+#include <tripsitter/device/frame_memory.h>
+#include <tripsitter/device/path_kernel.h>
 #include <tripsitter/device/controller.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/scene_memory.h>
@@ -54,9 +56,23 @@ struct RowTiles {
 };
 RowTiles row_tiles(const UnitWorld& world, int row, int tile_columns);
 
-// The units' schedule of a line whose pixels are `pixels` (each column's colour and reflections), the camera ray
-// of column c testing camera_tests[c] spheres and every reflected ray `spheres`: when each column's colour reaches
-// the line buffer, in cycles from the start of the line's work.
+// A line's work as chains of passes: a chain is a camera ray and the rays that follow it one after another (the
+// mirror model's reflections, a path's bounces), each pass waiting for the previous one's hit and its bounce.
+// Column c's chains are passes[start[c] .. start[c + 1]), each its number of passes (>= 1): one chain a column
+// in the mirror model, one a sample in the path tracer's (none for a pixel that traces nothing).
+struct LineChains {
+  std::vector<int> start;   // kLineWidth + 1 entries
+  std::vector<int> passes;
+};
+
+// The units' schedule of a line's chains, the camera ray of column c testing camera_tests[c] spheres and every
+// other ray `spheres`: when each column's colour reaches the line buffer, in cycles from the start of the line's
+// work. A unit takes its columns in order and a column's chains in order; a bounced ray joins the unit's queue
+// reflect_latency cycles after its pass's hit is known, and the colour is there shade_latency after the last hit
+// of the column's last chain (a column with no chains: shade_latency after the unit reaches it).
+std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres, const LineChains& work,
+                                             std::span<const int> camera_tests);
+// The mirror model's line: column c one chain of 1 + pixels[c].bounces passes.
 std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres,
                                              std::span<const core::PixelTrace> pixels,
                                              std::span<const int> camera_tests);
@@ -72,5 +88,13 @@ LineResult schedule_units(const DevicePreset& preset, std::int64_t spheres, std:
 enum class Search { kAll, kTiles };
 LineResult render_line(const DevicePreset& preset, const UnitWorld& world, int row, std::span<core::Rgb444> line,
                        Search search);
+
+// Row `row` of a path frame on the units (the artix path preset): each pixel's entry and samples (path_pixel with
+// artix_path.h's sample, the camera ray's search narrowed to its tile with kTiles), the line's chains (one a
+// sample, as many passes as its rays) scheduled; a pixel on time shows its colour and writes its entry, a late one
+// is black and keeps its entry. Adds what the units traced to `counters` (every pixel, late or not).
+LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, int row, const PathFrame& frame,
+                            std::span<AccumEntry> memory, std::span<core::Rgb444> line, PathCounters& counters,
+                            Search search);
 
 }  // namespace tripsitter::device::artix

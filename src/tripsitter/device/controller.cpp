@@ -22,6 +22,9 @@ LineResult Controller::render_line(int row, const SceneMemory& scene, std::span<
 LineResult Controller::render_path_line(int row, const SceneMemory& scene, const PathFrame& frame,
                                         std::span<AccumEntry> memory, std::span<core::Rgb444> line,
                                         PathCounters& counters) const {
+  if (preset_.units)
+    return artix::render_path_line(preset_, artix::prepare_world(scene), row, frame, memory, line, counters,
+                                   artix::Search::kAll);
   const std::span<const core::KernelSphere<std::int64_t>> spheres(scene.geometry);
   const FixedArith& arith = worker_.arith();
   const auto closest = [&](const PathRay& path) {

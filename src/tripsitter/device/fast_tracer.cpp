@@ -214,6 +214,7 @@ LineResult FastTracer::render_line(int row, std::span<core::Rgb444> line) const 
 
 LineResult FastTracer::render_path_line(int row, const PathFrame& frame, std::span<AccumEntry> memory,
                                         std::span<core::Rgb444> line, PathCounters& counters) const {
+  if (preset_.units) return artix::render_path_line(preset_, units_, row, frame, memory, line, counters, artix::Search::kTiles);
   const SceneMemory& scene = *scene_;
   if (!narrow_) return controller_.render_path_line(row, scene, frame, memory, line, counters);
   // Every sample of a pixel starts with the same camera ray (the device's rays have no jitter): its closest hit

@@ -334,23 +334,23 @@ struct PathPixel {
 };
 
 // Pixel (col, row) of a frame: its entry from frame memory (empty if of another epoch), spp more samples
-// unless that would pass kMaxSamples (a converged pixel traces nothing), and the colour shown.
-template <class Arith, class Closest>
-PathPixel trace_path_pixel(const Arith& arith, int col, int row, const AccumEntry& stored,
-                           std::span<const core::KernelSphere<std::int64_t>> spheres, const PathFrame& frame,
-                           PathCounters& counters, const Closest& closest) {
+// unless that would pass kMaxSamples (a converged pixel traces nothing), and the colour shown. sample(rng) traces
+// one sample on its stream (PathRng::for_sample(pixel, frame * spp + s)): the path preset's kernel (below) or the
+// artix path preset's (artix_path.h).
+template <class Arith, class Sample>
+PathPixel path_pixel(const Arith& arith, int col, int row, const AccumEntry& stored, const PathFrame& frame,
+                     const Sample& sample) {
   PathPixel out;
   AccumEntry e = stored.epoch == frame.epoch ? stored : AccumEntry{{}, 0, frame.epoch};
   if (e.count + frame.spp <= kMaxSamples) {
     const auto pixel = static_cast<std::uint32_t>(row * core::kScreenWidth + col);
-    const core::Vec3<core::Int128> d0 = device_ray(col, row);
     for (int s = 0; s < frame.spp; ++s) {
       PathRng rng = PathRng::for_sample(pixel, frame.frame * static_cast<std::uint32_t>(frame.spp) + static_cast<std::uint32_t>(s));
-      const PathSample sample = trace_path_sample(arith, d0, spheres, frame.surfaces, frame.depth, rng, counters, closest);
-      out.rays += sample.rays;
-      out.bounces += sample.bounces;
+      const PathSample one = sample(rng);
+      out.rays += one.rays;
+      out.bounces += one.bounces;
       for (std::size_t k = 0; k < 3; ++k) {
-        e.sum[k] += sample_channel(sample.light[k]);
+        e.sum[k] += sample_channel(one.light[k]);
         arith.check(e.sum[k], core::Width::kAccumSum);
       }
     }
@@ -359,6 +359,16 @@ PathPixel trace_path_pixel(const Arith& arith, int col, int row, const AccumEntr
   out.entry = e;
   out.colour = e.count > 0 ? display_colour(e, col, row, frame.dither) : core::kBlack;
   return out;
+}
+
+template <class Arith, class Closest>
+PathPixel trace_path_pixel(const Arith& arith, int col, int row, const AccumEntry& stored,
+                           std::span<const core::KernelSphere<std::int64_t>> spheres, const PathFrame& frame,
+                           PathCounters& counters, const Closest& closest) {
+  const core::Vec3<core::Int128> d0 = device_ray(col, row);
+  return path_pixel(arith, col, row, stored, frame, [&](PathRng& rng) {
+    return trace_path_sample(arith, d0, spheres, frame.surfaces, frame.depth, rng, counters, closest);
+  });
 }
 
 }  // namespace tripsitter::device

@@ -77,7 +77,6 @@ std::optional<std::string> DevicePreset::validate() const {
       costs.accumulate < 0)
     return "the path costs must not be negative";
   if (units) {
-    if (path) return "the sphere units do not path-trace";
     if (units->tile_columns < 1 || kLineWidth % units->tile_columns != 0) return "tile columns must divide 640";
     if (units->min_pass < 1) return "a pass takes at least one cycle";
     if (units->hit_latency < 0 || units->reflect_latency < 0 || units->shade_latency < 0)
@@ -89,7 +88,7 @@ std::optional<std::string> DevicePreset::validate() const {
   if (path) {
     if (path->spp < 1 || path->spp > kMaxSamples) return "samples per pixel must be 1 to 255";
     if (path->depth < 1 || path->depth > kMaxPathDepth) return "path depth must be 1 to 16";
-    if (sqrt_iterations < 15) return "the path preset's square roots need at least 15 iterations";
+    if (sqrt_iterations < 15 && !units) return "the path preset's square roots need at least 15 iterations";
     for (const auto* fmt : {&x, &y, &z, &radius})
       if (fmt->total_bits > 24) return "the path preset's formats must be at most 24 bits wide";
   }
@@ -167,17 +166,34 @@ DevicePreset artix_preset() {
   return p;
 }
 
+DevicePreset artix_path_preset() {
+  DevicePreset p = artix_preset();
+  p.name = "artix-path";
+  p.summary =
+      "the artix datapath path-tracing: the path preset's materials, 1 sample per pixel per frame, 4 rays per path, "
+      "on 9 sphere units shared by a line's rays and bounces (the model; its RTL is not written yet)";
+  p.max_bounces = 0;
+  p.path = DevicePath{};
+  // A bounce joins its unit's queue when the shared scatter unit has its direction: the path preset's slowest
+  // scatter (a dielectric's, 69 cycles) for every bounce; a colour is in the line buffer after the sky or the cut,
+  // the accumulation and the display (16 + 8 + 8).
+  p.units->reflect_latency = p.costs.scatter_dielectric;
+  p.units->shade_latency = p.costs.sky + p.costs.accumulate + 8;
+  return p;
+}
+
 bool traces_paths(const DevicePreset& preset, link::WireVersion wire) {
   return preset.path.has_value() && wire != link::WireVersion::kV1;
 }
 
-std::vector<std::string> preset_names() { return {"wide", "board-2023", "path", "artix"}; }
+std::vector<std::string> preset_names() { return {"wide", "board-2023", "path", "artix", "artix-path"}; }
 
 std::optional<DevicePreset> preset_by_name(std::string_view name) {
   if (name == "wide") return wide_preset();
   if (name == "board-2023") return board_2023_preset();
   if (name == "path") return path_preset();
   if (name == "artix") return artix_preset();
+  if (name == "artix-path") return artix_path_preset();
   return std::nullopt;
 }
 

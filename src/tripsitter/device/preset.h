@@ -141,6 +141,8 @@ DevicePreset path_preset();
 
 // "artix": the XC7A100T's datapath: sphere units sized to the DSP48E1, shared by a line's rays, mirrors.
 DevicePreset artix_preset();
+// "artix-path": the artix datapath path-tracing with the path preset's materials (artix_path.h), in the model.
+DevicePreset artix_path_preset();
 
 // Whether the device path-traces with this preset on this wire: the path preset's frames on a framed wire (v2, v3);
 // v1's words carry no materials, so every preset normal-shades them. The one home of that rule: the device, the

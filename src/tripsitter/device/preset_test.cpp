@@ -88,13 +88,14 @@ TEST(Preset, ShippedPresetsTraceNoLatePixelsAndKeepFrameMemoryOutside) {
   }
 }
 
-// The path preset path-traces on the framed wires only; the others never do.
-TEST(Preset, OnlyThePathPresetOnAFramedWireTracesPaths) {
+// The path presets (path, artix-path) path-trace on the framed wires only; the others never do.
+TEST(Preset, OnlyThePathPresetsOnAFramedWireTracePaths) {
   for (const std::string& name : preset_names()) {
     const DevicePreset p = *preset_by_name(name);
+    const bool path = name == "path" || name == "artix-path";
     EXPECT_FALSE(traces_paths(p, link::WireVersion::kV1)) << name;
-    EXPECT_EQ(traces_paths(p, link::WireVersion::kV2), name == "path") << name;
-    EXPECT_EQ(traces_paths(p, link::WireVersion::kV3), name == "path") << name;
+    EXPECT_EQ(traces_paths(p, link::WireVersion::kV2), path) << name;
+    EXPECT_EQ(traces_paths(p, link::WireVersion::kV3), path) << name;
   }
 }
 

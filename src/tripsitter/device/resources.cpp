@@ -159,7 +159,17 @@ Resources resources(const DevicePreset& p) {
   }
   const WorkerBlocks w = worker_blocks(p);
   out.dsp_per_worker = w.ray_setup.dsp() + w.sphere_test.dsp();
-  if (p.path) {
+  if (p.path && p.units) {
+    // The artix path preset, before its RTL: a sphere unit each, and once the camera, the cull and the scatter
+    // unit the units share, which takes the units' hit point and normal (their shading and reflection block's
+    // products) and the path preset's bounce, sky, seeds and accumulation.
+    out.dsp_per_worker = w.unit_sphere_test.dsp();
+    out.dsp_shared = w.camera_rays.dsp() + 1 + w.unit_shade_reflect.dsp();
+    for (const Block* b : {&w.normalise, &w.random_unit, &w.lambertian, &w.metal, &w.dielectric_common,
+                           &w.dielectric_reflect, &w.dielectric_refract, &w.throughput, &w.sky, &w.seed_hash,
+                           &w.accumulate})
+      out.dsp_shared += b->dsp();
+  } else if (p.path) {
     // One pipelined scatter unit serves every worker: a pixel's bounces are a few against its rays * spheres
     // sphere tests, so a line's bounces (about 640 * 1.5 at 1 spp) need far fewer than its 3200 cycles, one
     // accepted per cycle. Its normalisation serves the normal, the incoming direction and the sky in turn, so it
@@ -169,6 +179,10 @@ Resources resources(const DevicePreset& p) {
                            &w.dielectric_reflect, &w.dielectric_refract, &w.throughput, &w.sky, &w.seed_hash,
                            &w.accumulate})
       out.dsp_shared += b->dsp();
+  } else if (p.max_bounces > 0) {
+    out.dsp_per_worker += w.reflect.dsp();
+  }
+  if (p.path) {
     out.frame_memory_bits = std::int64_t{kAccumEntryBits} * core::kScreenWidth * core::kScreenHeight;
     out.frame_memory_in_bram = out.frame_memory_bits <= kBoardBramBits;
     if (p.path->frame_memory == FrameMemoryPlace::kExternal) {
@@ -179,8 +193,6 @@ Resources resources(const DevicePreset& p) {
       out.frame_memory_demand = traffic.demand();
       out.frame_memory_busy = traffic.busy();
     }
-  } else if (p.max_bounces > 0) {
-    out.dsp_per_worker += w.reflect.dsp();
   }
   out.workers_fitting = std::max(0, (kBoardDsp - out.dsp_shared) / out.dsp_per_worker);
   out.memories = bram_memories(p);
