@@ -138,3 +138,56 @@ TEST(ArtixPath, SamplesFollowThePathPresetsOnTheSameDraws) {
 
 }  // namespace
 }  // namespace tripsitter::device::artix
+
+namespace tripsitter::device::artix {
+namespace {
+
+// The fast model's search through the balls finds the plain search's hit, for rays from anywhere in the world's
+// formats (origins on spheres and at random, directions at random) on random worlds of every kind (in view, behind,
+// around the camera, huge, tiny, at the formats' limits).
+TEST(ArtixPath, TheBallsFindThePlainSearchsHit) {
+  std::mt19937_64 rng(19);
+  const DevicePreset p = artix_path_preset();
+  std::uniform_int_distribution<std::int64_t> coordinate(-(std::int64_t{1} << 21) + 1, (std::int64_t{1} << 21) - 1);
+  std::uniform_int_distribution<std::int64_t> component(-30000, 30000);
+  int hits = 0, rays = 0;
+  for (int w = 0; w < 60; ++w) {
+    const SceneMemory scene = testing::random_path_world(p, rng, 40);
+    const UnitWorld world = prepare_world(scene);
+    for (int k = 0; k < 2000; ++k) {
+      UnitRay ray;
+      const int from = world.spheres.empty() ? -1 : static_cast<int>(rng() % world.spheres.size());
+      if (from >= 0 && k % 2 == 0) {  // from a point on a sphere (a bounce's origin)
+        const UnitSphere& s = world.spheres[static_cast<std::size_t>(from)];
+        const Vec3i n = unit_direction({component(rng), component(rng), component(rng)});
+        for (std::size_t c = 0; c < 3; ++c)
+          ray.o[c] = std::clamp(s.c[c] + ((n[c] * s.r) >> kDirectionFrac), -(std::int64_t{1} << 22), std::int64_t{1} << 22);
+      } else {
+        ray.o = {coordinate(rng), coordinate(rng), coordinate(rng)};
+      }
+      approx::Unit3 v{component(rng), component(rng), component(rng)};
+      if (from >= 0 && k % 4 == 1) {  // grazing a sphere's rim: towards c + r w, w across the line of sight
+        const UnitSphere& s = world.spheres[static_cast<std::size_t>(rng() % world.spheres.size())];
+        const double sx = static_cast<double>(s.c[0] - ray.o[0]), sy = static_cast<double>(s.c[1] - ray.o[1]),
+                     sz = static_cast<double>(s.c[2] - ray.o[2]);
+        const double wx = -sy, wy = sx, norm = std::hypot(wx, wy) + 1e-9;
+        const double r = static_cast<double>(s.r) + static_cast<double>(static_cast<int>(rng() % 9) - 4);
+        const double tx = sx + r * wx / norm, ty = sy + r * wy / norm, tz = sz, len = std::sqrt(tx * tx + ty * ty + tz * tz);
+        if (len > 0) v = {std::llround(tx / len * 16384), std::llround(ty / len * 16384), std::llround(tz / len * 16384)};
+      }
+      if (core::dot(v, v) < 64) v = {0, 0, 1000};
+      ray.d = unit_direction(v);
+      const int excluded = k % 3 == 0 ? -1 : from;
+      const Hit want = closest_hit(ray, world.spheres, excluded);
+      const Hit got = closest_hit(ray, world.spheres, world.balls, excluded);
+      ASSERT_EQ(got.index, want.index) << "world " << w << " ray " << k;
+      ASSERT_EQ(got.td, want.td) << "world " << w << " ray " << k;
+      hits += want.index >= 0;
+      ++rays;
+    }
+  }
+  EXPECT_GT(hits, rays / 10);
+}
+
+}  // namespace
+}  // namespace tripsitter::device::artix
