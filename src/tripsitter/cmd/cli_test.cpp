@@ -492,7 +492,7 @@ TEST_F(Cli, CompareJsonAndAccumulateMisusedExitTwo) {
 
 TEST_F(Cli, HelpTellsTheTruthAboutThePathPreset) {
   const Result render = run("render --help");
-  for (const char* text : {"--preset path: samples per pixel the device adds to frame memory each frame",
+  for (const char* text : {"--preset path or artix-path: samples per pixel the device adds to frame memory each frame",
                            "rays per path on the device, 1..16 (default 4)", "--reference-spp", "--accumulate",
                            "mean_relative_bias", "pixels late in every frame have none"})
     EXPECT_NE(render.out.find(text), std::string::npos) << text;

@@ -35,7 +35,7 @@ device::DevicePreset load_preset(const std::string& name, int workers, int bounc
   if (workers != 0) preset->workers = workers;
   if (bounces >= 0) preset->max_bounces = bounces;
   if ((spp != 0 || depth != 0) && !preset->path)
-    throw InputError("--spp and --depth in hw mode need a path-tracing preset (--preset path); preset " + name +
+    throw InputError("--spp and --depth in hw mode need a path-tracing preset (--preset path or artix-path); preset " + name +
                      " traces one ray per pixel");
   if (spp != 0) preset->path->spp = spp;
   if (depth != 0) preset->path->depth = depth;

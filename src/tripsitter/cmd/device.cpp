@@ -192,7 +192,7 @@ void add_device_command(CLI::App& app, Action& run) {
       "is told the device is busy); one that sends bytes but completes no world for --host-timeout seconds is\n"
       "dropped. Stops cleanly (exit 0) on SIGINT or SIGTERM, or after --frames. The protocol:\n"
       "docs/link_format.md, \"Over a byte stream\".\n"
-      "With --preset path the device path-traces the host's worlds and accumulates them in frame memory while the\n"
+      "With --preset path or artix-path the device path-traces the host's worlds and accumulates them in frame memory while the\n"
       "worlds the host sends keep the same content (a host sends its view every tick, so a still camera\n"
       "refines); a world of other content starts over. Headless, each frame that shows a new world is\n"
       "written: while a host with a still camera runs (a script's 'wait'), the files show the samples growing.");
@@ -209,10 +209,10 @@ void add_device_command(CLI::App& app, Action& run) {
       ->check(CLI::Range(1, 640));
   add_device_option(*cmd, o->device);
   cmd->add_option("--spp", o->spp,
-                  "--preset path: samples per pixel added to frame memory each frame, 1..255 (default 1; a pixel "
+                  "--preset path or artix-path: samples per pixel added to frame memory each frame, 1..255 (default 1; a pixel "
                   "stops at 255)")
       ->check(CLI::Range(1, 255));
-  cmd->add_option("--depth", o->depth, "--preset path: rays per path, 1..16 (default 4)")->check(CLI::Range(1, 16));
+  cmd->add_option("--depth", o->depth, "--preset path or artix-path: rays per path, 1..16 (default 4)")->check(CLI::Range(1, 16));
   add_wire_option(*cmd, o->wire, "the one the host speaks");
   cmd->add_option("--frames", o->frames, "Stop after this many frames (default: run until SIGINT or SIGTERM)");
   cmd->add_option("--host-timeout", o->host_timeout_s,

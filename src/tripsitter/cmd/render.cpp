@@ -347,7 +347,7 @@ void check_options(const RenderOptions& o) {
   using modes::Mode;
   const Mode mode = o.source.mode;
   if (mode == Mode::kNormal && (o.spp != 0 || o.depth != 0))
-    throw InputError("--spp and --depth need --mode path, or --mode hw with --preset path (normal traces one ray per pixel)");
+    throw InputError("--spp and --depth need --mode path, or --mode hw with a path preset (normal traces one ray per pixel)");
   const link::WireVersion wire = o.source.board.wire;
   const device::DevicePreset preset =
       load_preset(o.preset, o.workers, o.bounces, mode == Mode::kHw ? o.spp : 0, mode == Mode::kHw ? o.depth : 0);
@@ -367,9 +367,9 @@ void check_options(const RenderOptions& o) {
   if (o.json && !o.compare) throw InputError("--json prints --compare's figures: it needs --compare");
   if (o.reference_spp != 0 && !(o.compare && traced))
     throw InputError("--reference-spp sets the float path tracer --compare runs for a path-tracing device: it needs "
-                     "--compare with --mode hw --preset path (and --wire v2)");
+                     "--compare with --mode hw and a path preset (and --wire v2)");
   if (o.accumulate != 0 && !traced)
-    throw InputError("--accumulate needs --mode hw with a path-tracing preset (--preset path) and --wire v2: only "
+    throw InputError("--accumulate needs --mode hw with a path-tracing preset (--preset path or artix-path) and --wire v2: only "
                      "its frame memory accumulates the frames of a still world");
   if (o.accumulate != 0 && (o.frames > 0 || !o.link_input.empty()))
     throw InputError("--accumulate shows one still world for several frames: not with --frames or --link-input");
@@ -503,16 +503,16 @@ void add_render_command(CLI::App& app, Action& run) {
       ->capture_default_str()->check(CLI::Range(std::int64_t{1}, std::int64_t{1'000'000'000'000}));
   cmd->add_option("--spp", o->spp,
                   "--mode path: samples per pixel (default: the scene's render.spp);\n"
-                  "--mode hw --preset path: samples per pixel the device adds to frame memory each frame, 1..255\n"
+                  "--mode hw --preset path or artix-path: samples per pixel the device adds to frame memory each frame, 1..255\n"
                   "(default 1); a pixel late in a frame gets none that frame, and one stops at 255")
       ->check(CLI::Range(1, scene::kMaxSpp));
   cmd->add_option("--depth", o->depth,
                   "--mode path: most bounces along one path (default: the scene's render.max_depth);\n"
-                  "--mode hw --preset path: rays per path on the device, 1..16 (default 4)")
+                  "--mode hw --preset path or artix-path: rays per path on the device, 1..16 (default 4)")
       ->check(CLI::Range(1, scene::kMaxDepth));
   cmd->add_option("--seed", o->source.seed,
                   "--mode path: random seed; the same seed gives the same image on any thread count. With --compare and "
-                  "--preset path: the float reference's seed (the device's own random numbers do not take one)")
+                  "--preset path or artix-path: the float reference's seed (the device's own random numbers do not take one)")
       ->capture_default_str();
   cmd->add_option("--threads", o->source.threads,
                   "normal and path modes, and --compare's float path tracer: worker threads (default: all)")
@@ -537,21 +537,21 @@ void add_render_command(CLI::App& app, Action& run) {
   cmd->add_flag("--compare", o->compare,
                "hw only: also render the same view-space world in float and print how the two differ (stdout).\n"
                "Presets that trace one ray per pixel: against the float reference of the device's shading, pixels\n"
-               "and 4-bit levels that differ. --preset path: frame memory's accumulated linear mean (not the\n"
+               "and 4-bit levels that differ. --preset path or artix-path: frame memory's accumulated linear mean (not the\n"
                "4-bit picture) against the float path tracer tracing the device's own rays from its scene memory\n"
                "(same sky, same rays per path, --reference-spp samples); prints the mean relative bias and the\n"
                "relative MSE over the pixels with samples (pixels late in every frame have none: left out, counted),\n"
                "and the same by what each pixel's camera ray meets first: sky, lambertian, metal, dielectric");
   cmd->add_flag("--json", o->json,
-                "With --compare: print the figures as one JSON object on stdout instead (--preset path: keys\n"
+                "With --compare: print the figures as one JSON object on stdout instead (--preset path or artix-path: keys\n"
                 "mean_relative_bias, relmse, device_spp, reference_spp, depth, late_pixels, pixels_without_samples,\n"
                 "by_first_hit, ...; other presets: pixels, differing, over_one_level, max_level_difference, ...)");
   cmd->add_option("--reference-spp", o->reference_spp,
-                  "With --compare and --preset path: samples per pixel of the float path tracer (default: the larger "
+                  "With --compare and --preset path or artix-path: samples per pixel of the float path tracer (default: the larger "
                   "of 256 and 4 x the device's samples per pixel)")
       ->check(CLI::Range(1, scene::kMaxSpp));
   cmd->add_option("--accumulate", o->accumulate,
-                  "--mode hw --preset path: show the still world for N frames, so that frame memory accumulates up\n"
+                  "--mode hw --preset path or artix-path: show the still world for N frames, so that frame memory accumulates up\n"
                   "to N x --spp samples per pixel (at most 255); writes, and with --compare compares, the last")
       ->check(CLI::Range(1, 1'000'000));
 #ifdef TRIPSITTER_WITH_MPI

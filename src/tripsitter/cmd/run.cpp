@@ -33,10 +33,10 @@ struct RunCommandOptions {
 void check_options(const RunCommandOptions& o) {
   const modes::SourceConfig& s = o.app.source;
   if (s.mode == modes::Mode::kNormal && (o.spp != 0 || o.depth != 0))
-    throw InputError("--spp and --depth need --mode hw with --preset path, or --mode path (normal traces one ray per pixel)");
+    throw InputError("--spp and --depth need --mode hw with --preset path or artix-path, or --mode path (normal traces one ray per pixel)");
   if (s.mode == modes::Mode::kPath && o.spp != 0)
     throw InputError("--spp: the window's --mode path adds one sample per pixel per frame while the camera is still; "
-                     "--spp sets the device's samples per frame with --mode hw --preset path");
+                     "--spp sets the device's samples per frame with --mode hw and a path preset");
   if (s.mode != modes::Mode::kPath && (!s.denoise || !s.reuse || s.row_step != 1))
     throw InputError("--no-denoise, --no-reuse and --row-step need --mode path");
   if (wants_rtl(o.device) && s.mode != modes::Mode::kHw)
@@ -69,21 +69,21 @@ void add_run_command(CLI::App& app, Action& run) {
       "Keys: W/S forward/back, A/D left/right, I/K look up/down, J/L look left/right, Q/E orbit the target,\n"
       "R reset, Tab figures, H help, N denoiser on/off (path mode), F12 screenshot (PNG in --screenshot-dir), Esc or\n"
       "closing the window quits. Tab shows frames per second and frame time; in hw mode late lines, link bytes and\n"
-      "saturations, and with --preset path the samples per pixel accumulated and the device's workers; in path mode\n"
+      "saturations, and with a path preset the samples per pixel accumulated and the device's workers; in path mode\n"
       "samples per pixel and whether the denoiser is on. Path mode keeps earlier frames while the camera moves\n"
       "(reprojected through the depth buffer) and filters the picture (docs/denoiser.md).");
   add_scene_option(*cmd, o->scene);
   add_mode_option(*cmd, o->app.source.mode,
-                  "hw: every camera change goes host -> link -> device -> VGA capture (with --preset path the\n"
+                  "hw: every camera change goes host -> link -> device -> VGA capture (with a path preset the\n"
                   "device accumulates samples while the camera is still); normal: the float reference;\n"
                   "path: the float path tracer, refining while the camera is still");
   add_preset_option(*cmd, o->preset, "hw; path path-traces, and accumulates in frame memory while the camera is still");
   cmd->add_option("--spp", o->spp,
-                  "--mode hw --preset path: samples per pixel the device adds each frame, 1..255 (default 1; a pixel "
+                  "--mode hw --preset path or artix-path: samples per pixel the device adds each frame, 1..255 (default 1; a pixel "
                   "stops at 255)")
       ->check(CLI::Range(1, 255));
   cmd->add_option("--depth", o->depth,
-                  "--mode hw --preset path: rays per path on the device, 1..16 (default 4); --mode path: most bounces "
+                  "--mode hw --preset path or artix-path: rays per path on the device, 1..16 (default 4); --mode path: most bounces "
                   "along one path (default: the scene's render.max_depth)")
       ->check(CLI::Range(1, scene::kMaxDepth));
   cmd->add_option("--workers", o->workers,

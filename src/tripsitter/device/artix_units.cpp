@@ -231,9 +231,14 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::in
   return unit_finish_cycles(preset, spheres, work, camera_tests);
 }
 
-LineResult schedule_units(const DevicePreset& preset, std::int64_t spheres, std::span<const core::PixelTrace> pixels,
-                          std::span<const int> camera_tests, std::span<core::Rgb444> line) {
-  const std::vector<std::int64_t> finish = unit_finish_cycles(preset, spheres, pixels, camera_tests);
+namespace {
+
+// The schedule applied to a line: a column whose colour is not in the line buffer by the lead time is black and
+// late; every other shows on_time(c, result), which also counts what the column did. The demand is the latest
+// finish, on time or not.
+template <class OnTime>
+LineResult apply_schedule(const DevicePreset& preset, std::span<const std::int64_t> finish,
+                          std::span<core::Rgb444> line, const OnTime& on_time) {
   LineResult result;
   for (std::size_t c = 0; c < kLineWidth; ++c) {
     result.demand_cycles = std::max(result.demand_cycles, finish[c]);
@@ -242,10 +247,20 @@ LineResult schedule_units(const DevicePreset& preset, std::int64_t spheres, std:
       ++result.late_pixels;
       continue;
     }
-    line[c] = pixels[c].colour;
-    result.reflections += pixels[c].bounces;
+    line[c] = on_time(c, result);
   }
   return result;
+}
+
+}  // namespace
+
+LineResult schedule_units(const DevicePreset& preset, std::int64_t spheres, std::span<const core::PixelTrace> pixels,
+                          std::span<const int> camera_tests, std::span<core::Rgb444> line) {
+  const std::vector<std::int64_t> finish = unit_finish_cycles(preset, spheres, pixels, camera_tests);
+  return apply_schedule(preset, finish, line, [&](std::size_t c, LineResult& result) {
+    result.reflections += pixels[c].bounces;
+    return pixels[c].colour;
+  });
 }
 
 LineResult render_line(const DevicePreset& preset, const UnitWorld& world, int row, std::span<core::Rgb444> line,
@@ -299,19 +314,11 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
   work.start.push_back(static_cast<int>(work.passes.size()));
   const std::vector<std::int64_t> finish =
       unit_finish_cycles(preset, static_cast<std::int64_t>(spheres.size()), work, tests);
-  LineResult result;
-  for (std::size_t c = 0; c < kLineWidth; ++c) {
-    result.demand_cycles = std::max(result.demand_cycles, finish[c]);
-    if (finish[c] > preset.lead_cycles) {
-      line[c] = core::kBlack;
-      ++result.late_pixels;
-      continue;
-    }
-    line[c] = pixels[c].colour;
+  return apply_schedule(preset, finish, line, [&](std::size_t c, LineResult& result) {
     memory[c] = pixels[c].entry;
     result.rays += pixels[c].rays;
-  }
-  return result;
+    return pixels[c].colour;
+  });
 }
 
 }  // namespace tripsitter::device::artix
