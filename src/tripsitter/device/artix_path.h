@@ -36,6 +36,10 @@ struct PathArith {
   // round(sqrt(x)) = (floor(sqrt(4x)) + 1) / 2, as sqrt(x) is never k + 1/2 for an integer x.
   core::Int128 sqrt(core::Int128 x) const { return (core::isqrt(static_cast<core::UInt128>(4 * x)) + 1) / 2; }
 };
+inline const PathArith& path_arith() {
+  static const PathArith arith;
+  return arith;
+}
 
 struct PathUnitRay {
   UnitRay ray;
@@ -64,7 +68,7 @@ template <class Closest>
 PathSample trace_path_sample(int col, int row, std::span<const UnitSphere> spheres,
                              std::span<const PathSurface> surfaces, int depth, PathRng& rng, PathCounters& counters,
                              const Closest& closest) {
-  static const PathArith arith;
+  const PathArith& arith = path_arith();
   PathSample out;
   PathUnitRay path{{{}, camera_direction(col, row)}, -1, false};
   std::array<std::int64_t, 3> throughput{65536, 65536, 65536};

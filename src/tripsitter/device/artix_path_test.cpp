@@ -153,7 +153,8 @@ TEST(ArtixPath, TheBallsFindThePlainSearchsHit) {
   int hits = 0, rays = 0;
   for (int w = 0; w < 60; ++w) {
     const SceneMemory scene = testing::random_path_world(p, rng, 40);
-    const UnitWorld world = prepare_world(scene);
+    UnitWorld world = prepare_world(scene);
+    world.balls = build_balls(world.spheres);
     for (int k = 0; k < 2000; ++k) {
       UnitRay ray;
       const int from = world.spheres.empty() ? -1 : static_cast<int>(rng() % world.spheres.size());

@@ -5,8 +5,6 @@
 #include <cassert>
 #include <deque>
 
-#include <tripsitter/core/isqrt.h>
-
 #include <tripsitter/device/artix_path.h>
 #include <tripsitter/device/worker.h>
 
@@ -35,111 +33,28 @@ UnitWorld prepare_world(const SceneMemory& scene) {
     w.spheres.push_back(prepare_sphere(scene.geometry[i], kernel_surface(scene, static_cast<int>(i))));
     w.bounds.push_back(cull_bounds(w.spheres.back()));
   }
-  w.balls = build_balls(w.spheres);
   return w;
 }
 
-namespace {
-
-constexpr int kLeafSpheres = 4;
-
-std::int64_t reach(const UnitSphere& s) { return s.r + (std::int64_t{2} << std::max(s.e, 0)) + 1; }
-
-// Builds nodes[node] around order[first, first + count) and its subtree: the centre the middle of the members'
-// bounding box, the radius the largest ceil(|c_i - centre|) + reach_i; split at the median centre along the axis
-// where the centres spread most. Coordinates are below 2^21 and reaches below 2^22, so every square fits 64 bits.
-void build_ball(UnitBalls& b, std::span<const UnitSphere> spheres, std::size_t node, int first, int count) {
-  Vec3i lo{}, hi{}, centre_lo{}, centre_hi{};
-  lo.fill(std::int64_t{1} << 40);
-  centre_lo.fill(std::int64_t{1} << 40);
-  hi.fill(-(std::int64_t{1} << 40));
-  centre_hi.fill(-(std::int64_t{1} << 40));
-  const auto member = [&](int j) -> const UnitSphere& {
-    return spheres[static_cast<std::size_t>(b.order[static_cast<std::size_t>(j)])];
-  };
-  for (int j = first; j < first + count; ++j) {
-    const UnitSphere& s = member(j);
-    for (std::size_t k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], s.c[k] - reach(s));
-      hi[k] = std::max(hi[k], s.c[k] + reach(s));
-      centre_lo[k] = std::min(centre_lo[k], s.c[k]);
-      centre_hi[k] = std::max(centre_hi[k], s.c[k]);
-    }
-  }
-  UnitBalls::Ball ball;
-  for (std::size_t k = 0; k < 3; ++k) ball.c[k] = lo[k] + (hi[k] - lo[k]) / 2;
-  for (int j = first; j < first + count; ++j) {
-    const UnitSphere& s = member(j);
-    std::uint64_t squared = 0;
-    for (std::size_t k = 0; k < 3; ++k) {
-      const auto o = static_cast<std::uint64_t>(std::abs(s.c[k] - ball.c[k]));
-      squared += o * o;
-    }
-    ball.r = std::max(ball.r, static_cast<std::int64_t>(core::ceil_isqrt(squared)) + reach(s));
-  }
-  ball.first = first;
-  if (count <= kLeafSpheres) {
-    ball.count = count;
-    b.nodes[node] = ball;
-    return;
-  }
-  std::size_t axis = 0;
-  for (std::size_t k = 1; k < 3; ++k)
-    if (centre_hi[k] - centre_lo[k] > centre_hi[axis] - centre_lo[axis]) axis = k;
-  const auto begin = b.order.begin() + first;
-  std::nth_element(begin, begin + count / 2, begin + count, [&](int x, int y) {
-    return spheres[static_cast<std::size_t>(x)].c[axis] < spheres[static_cast<std::size_t>(y)].c[axis];
-  });
-  ball.left = static_cast<int>(b.nodes.size());
-  b.nodes[node] = ball;
-  b.nodes.resize(b.nodes.size() + 2);
-  build_ball(b, spheres, static_cast<std::size_t>(ball.left), first, count / 2);
-  build_ball(b, spheres, static_cast<std::size_t>(ball.left) + 1, first + count / 2, count - count / 2);
+BallTree build_balls(std::span<const UnitSphere> spheres) {
+  return build_ball_tree(
+      spheres.size(), [&](int i) { return spheres[static_cast<std::size_t>(i)].c; },
+      [&](int i) {
+        const UnitSphere& s = spheres[static_cast<std::size_t>(i)];
+        return s.r + (std::int64_t{2} << std::max(s.e, 0)) + 1;
+      });
 }
 
-}  // namespace
-
-UnitBalls build_balls(std::span<const UnitSphere> spheres) {
-  UnitBalls b;
-  for (std::size_t i = 0; i < spheres.size(); ++i) b.order.push_back(static_cast<int>(i));
-  b.nodes.assign(1, UnitBalls::Ball{});
-  if (!spheres.empty()) build_ball(b, spheres, 0, 0, static_cast<int>(spheres.size()));
-  return b;
-}
-
-Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, const UnitBalls& balls, int excluded) {
-  using core::Int128;
+Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, const BallTree& balls, int excluded) {
   Hit best;
-  if (balls.order.empty()) return best;
-  const Int128 a = Int128{ray.d[0]} * ray.d[0] + Int128{ray.d[1]} * ray.d[1] + Int128{ray.d[2]} * ray.d[2];
-  std::array<int, 64> stack{};
-  std::size_t top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const UnitBalls::Ball& ball = balls.nodes[static_cast<std::size_t>(stack[--top])];
-    Int128 u = 0, bc2 = 0;
-    for (std::size_t k = 0; k < 3; ++k) {
-      const Int128 bc = ball.c[k] - ray.o[k];
-      u += bc * ray.d[k];
-      bc2 += bc * bc;
-    }
-    const Int128 r2 = Int128{ball.r} * ball.r;
-    if (u <= 0 && u * u >= a * r2) continue;              // the ball is wholly behind the origin
-    if (bc2 > r2 && u * u < a * (bc2 - r2)) continue;     // the line passes beyond its radius
-    if (ball.count == 0) {
-      stack[top++] = ball.left;
-      stack[top++] = ball.left + 1;
-      continue;
-    }
-    for (int j = ball.first; j < ball.first + ball.count; ++j) {
-      const int i = balls.order[static_cast<std::size_t>(j)];
-      if (i == excluded) continue;
-      const Quadratic q = quadratic(ray, spheres[static_cast<std::size_t>(i)]);
-      if (!q.hit()) continue;
-      // The least t, and on a tie the sphere sent first, whatever order the balls are visited in.
-      if (best.index < 0 || q.td < best.td || (q.td == best.td && i < best.index)) best = {i, q.td};
-    }
-  }
+  const std::int64_t a = ray.d[0] * ray.d[0] + ray.d[1] * ray.d[1] + ray.d[2] * ray.d[2];
+  for_each_ball_member(balls, ray.o, ray.d, a, [&](int i) {
+    if (i == excluded) return;
+    const Quadratic q = quadratic(ray, spheres[static_cast<std::size_t>(i)]);
+    if (!q.hit()) return;
+    // The least t, and on a tie the sphere sent first, whatever order the balls are visited in.
+    if (best.index < 0 || q.td < best.td || (q.td == best.td && i < best.index)) best = {i, q.td};
+  });
   return best;
 }
 
@@ -293,7 +208,7 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
   LineChains work;
   work.start.reserve(kLineWidth + 1);
   work.passes.reserve(static_cast<std::size_t>(kLineWidth) * static_cast<std::size_t>(frame.spp));
-  static const PathArith arith;
+  assert(search == Search::kAll || world.balls.order.size() == world.spheres.size());
   for (int col = 0; col < kLineWidth; ++col) {
     const auto c = static_cast<std::size_t>(col);
     const std::span<const int> list = tiles.list(col / tile_columns);
@@ -305,7 +220,7 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
                                                : closest_hit(path.ray, spheres, world.balls, path.from);
       return with_far_side(path, near, spheres);
     };
-    pixels[c] = path_pixel(arith, col, row, memory[c], frame, [&](PathRng& rng) {
+    pixels[c] = path_pixel(path_arith(), col, row, memory[c], frame, [&](PathRng& rng) {
       const PathSample s = trace_path_sample(col, row, spheres, frame.surfaces, frame.depth, rng, counters, closest);
       work.passes.push_back(s.rays);
       return s;

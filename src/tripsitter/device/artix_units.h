@@ -25,6 +25,7 @@
 #include <tripsitter/core/screen.h>
 #include <tripsitter/core/sphere_kernel.h>
 #include <tripsitter/device/artix_kernel.h>
+#include <tripsitter/device/ball_tree.h>
 #include <tripsitter/device/frame_memory.h>
 #include <tripsitter/device/path_kernel.h>
 #include <tripsitter/device/controller.h>
@@ -33,34 +34,22 @@
 
 namespace tripsitter::device::artix {
 
-// The fast model's search for rays that are not the camera's: a hierarchy of balls around groups of spheres, each
-// sphere counted with the units' reach r + 2^(max(e, 0) + 1) + 1. A sphere the units hit has its centre within
-// that reach of the ray's line (the units' f = oc - b d is at least the distance to the line, and F's floors and
-// r^2's rounding add less than 2^(max(e, 0) + 1)), and in front of the origin; so a ray whose line misses a ball,
-// or that finds the ball wholly behind its origin, hits none of the spheres inside. `order` is the sphere indices
-// grouped by leaf; nodes[0] is the root; an inner node's halves are nodes[left] and nodes[left + 1].
-struct UnitBalls {
-  struct Ball {
-    Vec3i c{};
-    std::int64_t r = 0;
-    int first = 0, count = 0;  // a leaf's spheres order[first, first + count); count 0 for an inner node
-    int left = 0;
-  };
-  std::vector<Ball> nodes;
-  std::vector<int> order;
-};
-UnitBalls build_balls(std::span<const UnitSphere> spheres);
+// The fast model's search for rays that are not the camera's (ball_tree.h), each sphere counted with the units'
+// reach r + 2^(max(e, 0) + 1) + 1: a sphere the units hit has its centre within that reach of the ray's line (the
+// units' f = oc - b d is at least the distance to the line, and F's floors and r^2's rounding add less than
+// 2^(max(e, 0) + 1)), and in front of the origin.
+BallTree build_balls(std::span<const UnitSphere> spheres);
 
 // The world as the units read it: each sphere with its per-world constants and its cull bounds, and the fast
-// model's balls.
+// model's balls (empty until it builds them: the plain model does without).
 struct UnitWorld {
   std::vector<UnitSphere> spheres;
   std::vector<core::ScreenBounds> bounds;  // inclusive; empty (lo > hi) when culled everywhere
-  UnitBalls balls;
+  BallTree balls;
 };
 
 // closest_hit(ray, spheres, excluded), the same hit, found through the balls.
-Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, const UnitBalls& balls, int excluded);
+Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, const BallTree& balls, int excluded);
 // REQUIRES scene memory in formats the preset validated (coordinates of at most 22 bits, radii of at most 21).
 UnitWorld prepare_world(const SceneMemory& scene);
 
@@ -114,7 +103,8 @@ LineResult render_line(const DevicePreset& preset, const UnitWorld& world, int r
 
 // Row `row` of a path frame on the units (the artix path preset): each pixel's entry and samples (path_pixel with
 // artix_path.h's sample, the camera ray's search narrowed to its tile with kTiles), the line's chains (one a
-// sample, as many passes as its rays) scheduled; a pixel on time shows its colour and writes its entry, a late one
+// sample, as many passes as its rays) scheduled; kTiles searches bounced rays through world.balls, which must be
+// built (build_balls); a pixel on time shows its colour and writes its entry, a late one
 // is black and keeps its entry. Adds what the units traced to `counters` (every pixel, late or not).
 LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, int row, const PathFrame& frame,
                             std::span<AccumEntry> memory, std::span<core::Rgb444> line, PathCounters& counters,

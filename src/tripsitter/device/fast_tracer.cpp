@@ -14,8 +14,6 @@ using core::Int128;
 using core::kScreenHeight;
 using core::kScreenWidth;
 
-constexpr int kLeafSpheres = 4;
-
 }  // namespace
 
 FastTracer::FastTracer(const DevicePreset& preset)
@@ -29,6 +27,7 @@ void FastTracer::load(const SceneMemory& scene) {
   scene_ = &scene;
   if (preset_.units) {  // the units check their own operands (artix::prepare_sphere)
     units_ = artix::prepare_world(scene);
+    if (preset_.path) units_.balls = artix::build_balls(units_.spheres);  // for bounced rays
     narrow_ = true;
     return;
   }
@@ -80,10 +79,9 @@ void FastTracer::load(const SceneMemory& scene) {
     col_hi_[i] = b.col_hi;
     rows[i] = {b.row_lo, b.row_hi};
   }
-  order_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) order_[i] = static_cast<int>(i);
-  balls_.assign(1, Ball{});
-  if (n > 0) build_ball(0, 0, static_cast<int>(n));
+  balls_ = build_ball_tree(
+      n, [&](int i) { return std::array<std::int64_t, 3>{cx_[static_cast<std::size_t>(i)], cy_[static_cast<std::size_t>(i)], cz_[static_cast<std::size_t>(i)]}; },
+      [&](int i) { return scene.geometry[static_cast<std::size_t>(i)].radius; });
 
   row_start_.assign(kScreenHeight + 1, 0);
   for (const auto& r : rows)
@@ -95,59 +93,6 @@ void FastTracer::load(const SceneMemory& scene) {
   for (std::size_t i = 0; i < n; ++i)
     for (int y = rows[i][0]; y <= rows[i][1]; ++y)
       row_spheres_[static_cast<std::size_t>(fill[static_cast<std::size_t>(y)]++)] = static_cast<int>(i);
-}
-
-// The ball's centre is the middle of the members' bounding box (spheres included), its radius the
-// largest ceil(|c_i - centre|) + r_i, so it holds every member whole. Coordinates lie in (-2^29, 2^29), so
-// |c_i - centre| < 2^29.8 and the radius is below 2^30.1.
-void FastTracer::build_ball(std::size_t node, int first, int count) {
-  std::array<std::int64_t, 3> lo{}, hi{}, centre_lo{}, centre_hi{};
-  for (int k = 0; k < 3; ++k) lo[k] = centre_lo[k] = kNarrowLimit * 2, hi[k] = centre_hi[k] = -kNarrowLimit * 2;
-  const auto member = [&](int j) { return static_cast<std::size_t>(order_[static_cast<std::size_t>(j)]); };
-  const auto centre_of = [&](std::size_t i) { return std::array<std::int64_t, 3>{cx_[i], cy_[i], cz_[i]}; };
-  for (int j = first; j < first + count; ++j) {
-    const std::size_t i = member(j);
-    const std::int64_t r = scene_->geometry[i].radius;
-    const auto c = centre_of(i);
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], c[k] - r);
-      hi[k] = std::max(hi[k], c[k] + r);
-      centre_lo[k] = std::min(centre_lo[k], c[k]);
-      centre_hi[k] = std::max(centre_hi[k], c[k]);
-    }
-  }
-  Ball ball;
-  ball.cx = lo[0] + (hi[0] - lo[0]) / 2;
-  ball.cy = lo[1] + (hi[1] - lo[1]) / 2;
-  ball.cz = lo[2] + (hi[2] - lo[2]) / 2;
-  std::int64_t radius = 0;
-  for (int j = first; j < first + count; ++j) {
-    const std::size_t i = member(j);
-    const std::int64_t ox = cx_[i] - ball.cx, oy = cy_[i] - ball.cy, oz = cz_[i] - ball.cz;
-    const auto squared = static_cast<std::uint64_t>(ox * ox + oy * oy + oz * oz);
-    radius = std::max(radius, static_cast<std::int64_t>(core::ceil_isqrt(squared)) + scene_->geometry[i].radius);
-  }
-  ball.r2 = radius * radius;
-  ball.first = first;
-  if (count <= kLeafSpheres) {
-    ball.count = count;
-    balls_[node] = ball;
-    return;
-  }
-  // Split at the median centre along the axis where the centres spread most.
-  int axis = 0;
-  for (int k = 1; k < 3; ++k)
-    if (centre_hi[k] - centre_lo[k] > centre_hi[static_cast<std::size_t>(axis)] - centre_lo[static_cast<std::size_t>(axis)]) axis = k;
-  const auto begin = order_.begin() + first;
-  std::nth_element(begin, begin + count / 2, begin + count, [&](int a, int b) {
-    return centre_of(static_cast<std::size_t>(a))[static_cast<std::size_t>(axis)] <
-           centre_of(static_cast<std::size_t>(b))[static_cast<std::size_t>(axis)];
-  });
-  ball.left = static_cast<int>(balls_.size());
-  balls_[node] = ball;
-  balls_.resize(balls_.size() + 2);
-  build_ball(static_cast<std::size_t>(ball.left), first, count / 2);
-  build_ball(static_cast<std::size_t>(ball.left) + 1, first + count / 2, count - count / 2);
 }
 
 void FastTracer::primary_hits(int row, std::array<int, kLineWidth>& best,
@@ -262,42 +207,25 @@ core::KernelHit<Int128> FastTracer::closest_hit(const core::KernelRay<Int128>& r
   core::check_width(narrow_arith_, a, core::Width::kA);
   int best = -1;
   std::int64_t best_num = 0;
-  std::array<int, 64> stack;  // depth-first; the hierarchy is at most 20 levels deep for a million spheres
-  std::size_t top = 0;
-  if (!order_.empty()) stack[top++] = 0;
-  while (top > 0) {
-    const Ball& ball = balls_[static_cast<std::size_t>(stack[--top])];
-    const std::int64_t bx = ball.cx - ox, by = ball.cy - oy, bz = ball.cz - oz;
-    const std::int64_t u = dx * bx + dy * by + dz * bz;
-    const Int128 u2 = Int128{u} * u;
-    if (u <= 0 && u2 >= Int128{a} * ball.r2) continue;  // the ball is wholly behind the origin
-    if (u2 < Int128{a} * (bx * bx + by * by + bz * bz - ball.r2)) continue;  // the line misses the ball
-    if (ball.count == 0) {
-      stack[top++] = ball.left;
-      stack[top++] = ball.left + 1;
-      continue;
+  for_each_ball_member(balls_, {ox, oy, oz}, {dx, dy, dz}, a, [&](int i) {
+    if (i == excluded) return;
+    const auto s = static_cast<std::size_t>(i);
+    const std::int64_t ocx = cx_[s] - ox, ocy = cy_[s] - oy, ocz = cz_[s] - oz;
+    core::check_width(narrow_arith_, ocx, core::Width::kToCentre);
+    core::check_width(narrow_arith_, ocy, core::Width::kToCentre);
+    core::check_width(narrow_arith_, ocz, core::Width::kToCentre);
+    // The kernel's b = 2 d.oc and c' = oc.oc - r^2 (r^2 as loaded), then its quadratic.
+    const std::int64_t b = 2 * (dx * ocx + dy * ocy + dz * ocz);
+    if (b <= 0) return;  // num = b - sqrt(D) <= 0
+    const std::int64_t c_prime = ocx * ocx + ocy * ocy + ocz * ocz - r2_[s];
+    const std::int64_t num = core::hit_num(narrow_arith_, a, b, c_prime);
+    if (num <= 0) return;  // a miss (or a hit behind the origin)
+    // The smallest num, and on a tie the sphere sent first, whatever order the balls are visited in.
+    if (best < 0 || num < best_num || (num == best_num && i < best)) {
+      best = i;
+      best_num = num;
     }
-    for (int j = ball.first; j < ball.first + ball.count; ++j) {
-      const int i = order_[static_cast<std::size_t>(j)];
-      if (i == excluded) continue;
-      const auto s = static_cast<std::size_t>(i);
-      const std::int64_t ocx = cx_[s] - ox, ocy = cy_[s] - oy, ocz = cz_[s] - oz;
-      core::check_width(narrow_arith_, ocx, core::Width::kToCentre);
-      core::check_width(narrow_arith_, ocy, core::Width::kToCentre);
-      core::check_width(narrow_arith_, ocz, core::Width::kToCentre);
-      // The kernel's b = 2 d.oc and c' = oc.oc - r^2 (r^2 as loaded), then its quadratic.
-      const std::int64_t b = 2 * (dx * ocx + dy * ocy + dz * ocz);
-      if (b <= 0) continue;  // num = b - sqrt(D) <= 0
-      const std::int64_t c_prime = ocx * ocx + ocy * ocy + ocz * ocz - r2_[s];
-      const std::int64_t num = core::hit_num(narrow_arith_, a, b, c_prime);
-      if (num <= 0) continue;  // a miss (or a hit behind the origin)
-      // The smallest num, and on a tie the sphere sent first, whatever order the balls are visited in.
-      if (best < 0 || num < best_num || (num == best_num && i < best)) {
-        best = i;
-        best_num = num;
-      }
-    }
-  }
+  });
   return {best, best_num};
 }
 

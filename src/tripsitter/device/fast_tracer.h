@@ -27,6 +27,7 @@
 #include <tripsitter/core/rgb444.h>
 #include <tripsitter/core/sphere_kernel.h>
 #include <tripsitter/device/artix_units.h>
+#include <tripsitter/device/ball_tree.h>
 #include <tripsitter/device/controller.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/scene_memory.h>
@@ -91,20 +92,10 @@ class FastTracer {
   bool narrow() const { return narrow_; }
 
  private:
-  // A ball (integer centre and radius) holding every sphere of a group: a leaf's spheres are
-  // order_[first, first + count); an inner node's two halves are nodes[left] and nodes[left + 1].
-  struct Ball {
-    std::int64_t cx = 0, cy = 0, cz = 0, r2 = 0;  // r2: the radius squared
-    int first = 0, count = 0;                     // count == 0 for an inner node
-    int left = 0;
-  };
-
   // The closest hit of every camera ray of row `row`: best[col] the sphere (-1: none), best_num[col] its num.
   void primary_hits(int row, std::array<int, kLineWidth>& best, std::array<std::int64_t, kLineWidth>& best_num) const;
   // The closest hit of a reflected ray (or any ray whose origin and direction fit the 64-bit bounds).
   core::KernelHit<core::Int128> closest_hit(const core::KernelRay<core::Int128>& ray, int excluded) const;
-  // Builds balls_[node] around order_[first, first + count), and its subtree.
-  void build_ball(std::size_t node, int first, int count);
 
   DevicePreset preset_;
   Controller controller_;
@@ -123,9 +114,8 @@ class FastTracer {
   // Spheres whose rows hold row y, in the order sent: row_spheres_[row_start_[y] .. row_start_[y + 1]).
   std::vector<int> row_start_;
   std::vector<int> row_spheres_;
-  // The hierarchy of balls, balls_[0] the root; order_ the sphere indices grouped by leaf.
-  std::vector<Ball> balls_;
-  std::vector<int> order_;
+  // The hierarchy of balls around the spheres, for reflected rays (ball_tree.h).
+  BallTree balls_;
   // The artix preset's world (its units' own search and cull, artix_units.h): none of the above is used.
   artix::UnitWorld units_;
 };

@@ -159,26 +159,26 @@ Resources resources(const DevicePreset& p) {
   }
   const WorkerBlocks w = worker_blocks(p);
   out.dsp_per_worker = w.ray_setup.dsp() + w.sphere_test.dsp();
+  // The path presets' shared scatter unit beyond the hit point: the bounce by material, the sky, the seeds and the
+  // accumulation.
+  int scatter_dsp = 0;
+  for (const Block* b : {&w.normalise, &w.random_unit, &w.lambertian, &w.metal, &w.dielectric_common,
+                         &w.dielectric_reflect, &w.dielectric_refract, &w.throughput, &w.sky, &w.seed_hash,
+                         &w.accumulate})
+    scatter_dsp += b->dsp();
   if (p.path && p.units) {
     // The artix path preset, before its RTL: a sphere unit each, and once the camera, the cull and the scatter
     // unit the units share, which takes the units' hit point and normal (their shading and reflection block's
     // products) and the path preset's bounce, sky, seeds and accumulation.
     out.dsp_per_worker = w.unit_sphere_test.dsp();
-    out.dsp_shared = w.camera_rays.dsp() + 1 + w.unit_shade_reflect.dsp();
-    for (const Block* b : {&w.normalise, &w.random_unit, &w.lambertian, &w.metal, &w.dielectric_common,
-                           &w.dielectric_reflect, &w.dielectric_refract, &w.throughput, &w.sky, &w.seed_hash,
-                           &w.accumulate})
-      out.dsp_shared += b->dsp();
+    out.dsp_shared = w.camera_rays.dsp() + 1 + w.unit_shade_reflect.dsp() + scatter_dsp;
   } else if (p.path) {
     // One pipelined scatter unit serves every worker: a pixel's bounces are a few against its rays * spheres
     // sphere tests, so a line's bounces (about 640 * 1.5 at 1 spp) need far fewer than its 3200 cycles, one
     // accepted per cycle. Its normalisation serves the normal, the incoming direction and the sky in turn, so it
     // is there once. (The cycle model charges each bounce its latency and ignores two workers meeting there in
     // the same cycle: docs/device.md.)
-    for (const Block* b : {&w.hit_point, &w.normalise, &w.random_unit, &w.lambertian, &w.metal, &w.dielectric_common,
-                           &w.dielectric_reflect, &w.dielectric_refract, &w.throughput, &w.sky, &w.seed_hash,
-                           &w.accumulate})
-      out.dsp_shared += b->dsp();
+    out.dsp_shared = w.hit_point.dsp() + scatter_dsp;
   } else if (p.max_bounces > 0) {
     out.dsp_per_worker += w.reflect.dsp();
   }
