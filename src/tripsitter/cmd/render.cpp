@@ -367,10 +367,10 @@ void check_options(const RenderOptions& o) {
   if (o.json && !o.compare) throw InputError("--json prints --compare's figures: it needs --compare");
   if (o.reference_spp != 0 && !(o.compare && traced))
     throw InputError("--reference-spp sets the float path tracer --compare runs for a path-tracing device: it needs "
-                     "--compare with --mode hw and a path preset (and --wire v2)");
+                     "--compare with --mode hw and a path preset (on a framed wire, v2 or v3)");
   if (o.accumulate != 0 && !traced)
-    throw InputError("--accumulate needs --mode hw with a path-tracing preset (--preset path or artix-path) and --wire v2: only "
-                     "its frame memory accumulates the frames of a still world");
+    throw InputError("--accumulate needs --mode hw with a path-tracing preset (--preset path or artix-path) on a framed "
+                     "wire (v2 or v3): only its frame memory accumulates the frames of a still world");
   if (o.accumulate != 0 && (o.frames > 0 || !o.link_input.empty()))
     throw InputError("--accumulate shows one still world for several frames: not with --frames or --link-input");
   if (!o.aov.empty() && o.frames > 0) throw InputError("--aov writes the feature buffers of a still: not with --frames");
