@@ -32,12 +32,15 @@ struct FrameEvent {
   }
 };
 
-inline bool valid_world(const link::World& w, std::uint32_t max_spheres) {
+// A world keeps the frame's rules: its spheres', and a hierarchy's (v3 only, at most as many nodes as spheres the
+// receiver holds).
+inline bool valid_world(link::WireVersion wire, const link::World& w, std::uint32_t max_spheres) {
   if (w.frac_bits > link::kMaxFracBits || w.spheres.size() > max_spheres) return false;
   for (const link::WireSphere& s : w.spheres) {
     if (s.radius == 0 || s.material > link::kMaterialDielectric || s.ior == 0) return false;
   }
-  return true;
+  if (!w.nodes.empty() && (wire != link::WireVersion::kV3 || w.nodes.size() > max_spheres)) return false;
+  return !link::hierarchy_error(w).has_value();
 }
 
 // Feeds `bytes` to a stream decoder, all at once (seed 0) or in transfers of 1..64 bytes drawn from `seed`,
@@ -68,7 +71,7 @@ inline std::vector<FrameEvent> decode_stream(link::WireVersion wire, std::span<c
   FUZZ_CHECK(decoder.buffered_bytes() == 0, "bytes still buffered after end_of_stream()");
   std::size_t start = 0;
   for (FrameEvent& e : events) {
-    if (e.is_frame) e.bytes = link::frame_bytes(wire, e.world.spheres.size());
+    if (e.is_frame) e.bytes = link::frame_bytes(wire, e.world.spheres.size(), e.world.nodes.size());
     e.at = start;
     start += e.bytes;
   }
@@ -76,7 +79,7 @@ inline std::vector<FrameEvent> decode_stream(link::WireVersion wire, std::span<c
 }
 
 // The checks both framed wires share; returns the stream decoder's events for the whole input at once.
-//   - decode_frame: a frame that decodes is valid (frac_bits, count, spheres) and encodes back to exactly the
+//   - decode_frame: a frame that decodes is valid (frac_bits, count, spheres, hierarchy) and encodes back to exactly the
 //     input; one sphere fewer of scene memory rejects it as too many spheres; a failure points inside the
 //     input and says why;
 //   - FrameStreamDecoder: the stream fed at once and fed in transfers of 1..64 bytes (sizes drawn from a hash
@@ -93,7 +96,7 @@ inline std::vector<FrameEvent> check_frames(link::WireVersion wire, std::span<co
   const auto result = link::decode_frame(wire, bytes, kMaxSpheres);
   if (result.ok()) {
     const link::World& world = result.value();
-    FUZZ_CHECK(valid_world(world, kMaxSpheres), "decode_frame accepted an invalid world");
+    FUZZ_CHECK(valid_world(wire, world, kMaxSpheres), "decode_frame accepted an invalid world");
     const std::vector<std::uint8_t> again = link::encode_frame(wire, world);
     FUZZ_CHECK(again.size() == size && std::equal(again.begin(), again.end(), data),
                "a decoded frame does not re-encode to the same bytes");
@@ -121,7 +124,7 @@ inline std::vector<FrameEvent> check_frames(link::WireVersion wire, std::span<co
     for (const FrameEvent& e : *events) {
       FUZZ_CHECK(e.bytes > 0 && at + e.bytes <= size, "an event covers no bytes or bytes beyond the stream");
       if (e.is_frame) {
-        FUZZ_CHECK(valid_world(e.world, kMaxSpheres), "the stream decoder delivered an invalid world");
+        FUZZ_CHECK(valid_world(wire, e.world, kMaxSpheres), "the stream decoder delivered an invalid world");
         const std::vector<std::uint8_t> again = link::encode_frame(wire, e.world);
         FUZZ_CHECK(std::equal(again.begin(), again.end(), data + at),
                    "a delivered frame does not re-encode to the bytes it came from");

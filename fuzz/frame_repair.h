@@ -14,8 +14,9 @@
 namespace tripsitter::fuzz {
 
 // Rewrites the CRCs of every frame of `wire` (v2 or v3) in `bytes`: on v3, the header CRC of every whole
-// header after a magic; on both, the frame's CRC where the header is consistent (a length of count * 24 that
-// fits in the rest of the bytes). The rest is left as it is. Returns whether anything changed.
+// header after a magic; on both, the frame's CRC where the header is consistent (a length of count * 24, or on v3
+// with content 1 of 24 more for each node, that fits in the rest of the bytes). The rest is left as it is. Returns
+// whether anything changed.
 inline bool repair_frame_crcs(link::WireVersion wire, std::span<std::uint8_t> bytes) {
   const bool v3 = wire == link::WireVersion::kV3;
   const auto& magic = v3 ? link::kV3Magic : link::kV2Magic;
@@ -43,7 +44,11 @@ inline bool repair_frame_crcs(link::WireVersion wire, std::span<std::uint8_t> by
     if (v3) put_crc(at, at + header_crc_at);
     const std::uint64_t count = u32(at + count_at), length = u32(at + length_at);
     const std::uint64_t crc_at = at + header_bytes + length;
-    if (length != count * link::kSphereBytes || crc_at + link::kFrameTrailerBytes > bytes.size()) {
+    const bool hierarchy = v3 && bytes[at + 6] == link::kContentHierarchy;
+    const bool consistent = hierarchy ? length > count * link::kSphereBytes &&
+                                            (length - count * link::kSphereBytes) % link::kNodeBytes == 0
+                                      : length == count * link::kSphereBytes;
+    if (!consistent || crc_at + link::kFrameTrailerBytes > bytes.size()) {
       ++at;
       continue;
     }

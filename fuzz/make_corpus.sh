@@ -66,6 +66,9 @@ encode random-3 wide v3 --worlds 3 > "$out/wire_v3/stream-three-worlds"
 { bytes 0001545357; cat "$tmp/demo-wide.v3"; } > "$out/wire_v3/stream-garbage-then-frame"
 head -c 100 "$tmp/cluster-wide.v3" > "$out/wire_v3/stream-truncated"
 { head -c 60 "$tmp/cluster-wide.v3"; encode demo wide v3 --session 2; } > "$out/wire_v3/stream-host-restarts-mid-world"
+# Worlds with the hierarchy the host sends the artix path preset (content 1): 16 spheres in four leaves, and 60.
+encode random-16 artix-path v3 > "$out/wire_v3/random-16-artix-path"
+encode random-60 artix-path v3 > "$tmp/random-60-artix-path.v3"
 bytes 545357330304000000000001000000010000000200000030904a7b855453573303040000000000020000000100000001 \
       000000185f95c5610000000000000000000001400000000000001800dfc00a36 > "$out/wire_v3/nested-intact-header"
 
@@ -78,7 +81,7 @@ done
 { bytes 07; cat "$tmp/cluster-board-2023.v1"; } > "$out/wire_v1/cluster-with-reset"
 { bytes 02; cat "$tmp/demo-board-2023.v1"; bytes 0102; } > "$out/wire_v1/demo-and-partial-word"
 
-# receiver: configuration (bit 0 v1, bit 1 board-2023, bits 2..3 unit 1/4/16/64, bit 5 v3), a count of transfer bytes
+# receiver: configuration (bit 0 v1, bit 1 board-2023, bits 2..3 unit 1/4/16/64, bit 5 v3, bit 7 artix-path), a count of transfer bytes
 # (bits 0..6 length in units, bit 7 a vertical blanking after it), the transfer bytes, then the link bytes.
 # receiver_seed NAME CONFIG TRANSFERS FILES...
 receiver_seed() {
@@ -105,6 +108,9 @@ encode random-3 wide v3 --worlds 2 --session 2 > "$tmp/s2.v3"
 receiver_seed v3-replays-and-a-restart 20 "3481" "$tmp/s1.v3" <(tail -c +105 "$tmp/s1.v3" | head -c 104) \
     "$tmp/s2.v3" <(tail -c 104 "$tmp/s1.v3")
 receiver_seed v3-host-restarts-mid-world 20 "0a" "$out/wire_v3/stream-host-restarts-mid-world"
+# The artix path preset (bit 7) takes a hierarchy; the wide preset refuses it at the header.
+receiver_seed v3-random-60-artix-path a0 "90" "$tmp/random-60-artix-path.v3"
+receiver_seed v3-hierarchy-to-wide 20 "" "$out/wire_v3/random-16-artix-path"
 receiver_seed v1-cluster-board 03 "88" "$tmp/cluster-board-2023.v1"
 receiver_seed v1-three-wide 01 "0583" "$tmp/three_materials-wide.v1"
 receiver_seed v1-demo-board 03 "" "$tmp/demo-board-2023.v1"

@@ -2,7 +2,7 @@
 //
 // Input: a configuration byte, a count byte, that many transfer bytes, then the link bytes.
 //   configuration: bit 0 the wire v1 (when clear: bit 5 chooses v3 over v2), bit 1 the preset (0 wide,
-//                  1 board-2023), bits 2..3 the transfer length unit (1, 4, 16 or 64 bytes), bit 4 keep the
+//                  1 board-2023; bit 7 set: artix-path, which takes a hierarchy on v3), bits 2..3 the transfer length unit (1, 4, 16 or 64 bytes), bit 4 keep the
 //                  frames' CRCs as they are (when clear, the CRCs of every frame with a consistent header, and on
 //                  v3 every header CRC, are rewritten first: frame_repair.h);
 //   count:         0..15 transfer bytes (count % 16); none sends the link bytes as one transfer;
@@ -15,13 +15,16 @@
 //   - ready() is low exactly while a world accepted since the last swap waits; swap_if_pending() swaps
 //     exactly when ready() was low, and raises it;
 //   - a swapped-in scene memory is valid, holds at most the preset's spheres (one for v1), every centre and
-//     radius inside the preset's formats (radius > 0; a power of two for v1), known materials, ior > 0;
+//     radius inside the preset's formats (radius > 0; a power of two for v1), known materials, ior > 0, and a
+//     hierarchy only for artix-path, which keeps the wire's rules (link::hierarchy_error) with every bound but the
+//     root's inside the formats;
 //   - it is the latest world accepted by a reference: link::FrameStreamDecoder fed the same transfers (or
 //     aligned v1 words), with the receiver's documented acceptance rules and an independent model of its
 //     sequence rules applied (docs/link_format.md, "Sessions and sequence numbers");
 //   - a worker draws the last one without harm (no assertion, no overflow) at a few pixels: the corners,
 //     the centre and where the first spheres' centres project, with up to core::kMaxBounces mirror bounces
-//     (any world inside the formats must be drawable; docs/device.md bounds the intermediates);
+//     (any world inside the formats must be drawable; docs/device.md bounds the intermediates), and with a
+//     hierarchy the sphere units walk it for the same pixels' rays, each hit one the units confirm;
 // and at the end: the counts of accepted, rejected, garbage, missing and replayed worlds and of sessions match
 // the reference, and every link byte is in an accepted world or counted as dropped (replays included), and
 // the bytes dropped are the reference's.
@@ -118,7 +121,7 @@ Reference reference_frames(link::WireVersion wire, std::span<const std::uint8_t>
       wire, p.max_spheres,
       {.on_frame =
            [&](link::World&& w) {
-             const std::size_t size = link::frame_bytes(wire, w.spheres.size());
+             const std::size_t size = link::frame_bytes(wire, w.spheres.size(), w.nodes.size());
              if (!sequence.admit(w.session, w.sequence, ref)) {
                ++ref.replayed;
                ref.dropped_bytes += size;
@@ -127,6 +130,10 @@ Reference reference_frames(link::WireVersion wire, std::span<const std::uint8_t>
              bool ok = w.frac_bits == p.frac_bits();
              for (const link::WireSphere& s : w.spheres) {
                ok = ok && p.x.contains(s.x) && p.y.contains(s.y) && p.z.contains(s.z) && p.radius.contains(s.radius);
+             }
+             for (std::size_t i = 1; i < w.nodes.size(); ++i) {
+               const link::WireNode& v = w.nodes[i];
+               ok = ok && p.x.contains(v.x) && p.y.contains(v.y) && p.z.contains(v.z) && p.radius.contains(v.radius);
              }
              if (!ok) {
                ++ref.rejected;
@@ -140,6 +147,9 @@ Reference reference_frames(link::WireVersion wire, std::span<const std::uint8_t>
                m.geometry.push_back({{s.x, s.y, s.z}, s.radius});
                m.surfaces.push_back({s.material, s.albedo, s.fuzz, s.ior});
              }
+             for (const link::WireNode& v : w.nodes)
+               m.hierarchy.push_back({{{v.x, v.y, v.z}, v.radius}, v.first_child, v.children,
+                                      static_cast<int>(v.first_sphere), v.sphere_count});
              ref.accepted.push_back(std::move(m));
              ref.accepted_bytes.push_back(size);
            },
@@ -153,7 +163,8 @@ Reference reference_frames(link::WireVersion wire, std::span<const std::uint8_t>
              } else {
                ++ref.rejected;
              }
-           }});
+           }},
+      p.walks_hierarchy());
   std::size_t at = 0;
   for (const Transfer& t : transfers) {
     decoder.push(bytes.subspan(at, t.bytes));
@@ -197,12 +208,17 @@ Reference reference_v1(std::span<const std::uint8_t> bytes, const device::Device
   return ref;
 }
 
+bool same_ball(const core::KernelSphere<std::int64_t>& s, const core::KernelSphere<std::int64_t>& t) {
+  return s.center.x == t.center.x && s.center.y == t.center.y && s.center.z == t.center.z && s.radius == t.radius;
+}
+
 bool same_memory(const device::SceneMemory& a, const device::SceneMemory& b) {
   return a.valid == b.valid && a.sequence == b.sequence && a.geometry.size() == b.geometry.size() &&
-         a.surfaces == b.surfaces &&
-         std::equal(a.geometry.begin(), a.geometry.end(), b.geometry.begin(), [](const auto& s, const auto& t) {
-           return s.center.x == t.center.x && s.center.y == t.center.y && s.center.z == t.center.z &&
-                  s.radius == t.radius;
+         a.surfaces == b.surfaces && std::equal(a.geometry.begin(), a.geometry.end(), b.geometry.begin(), same_ball) &&
+         a.hierarchy.size() == b.hierarchy.size() &&
+         std::equal(a.hierarchy.begin(), a.hierarchy.end(), b.hierarchy.begin(), [](const auto& u, const auto& v) {
+           return same_ball(u.bound, v.bound) && u.first_child == v.first_child && u.children == v.children &&
+                  u.first_sphere == v.first_sphere && u.spheres == v.spheres;
          });
 }
 
@@ -221,6 +237,25 @@ void check_front(const device::SceneMemory& m, const device::DevicePreset& p, li
     FUZZ_CHECK(s.material <= link::kMaterialDielectric, "an unknown material in scene memory");
     FUZZ_CHECK(s.ior > 0, "ior 0 in scene memory");
   }
+  if (m.hierarchy.empty()) return;
+  FUZZ_CHECK(p.walks_hierarchy(), "a hierarchy in the scene memory of a preset that walks none");
+  link::World w;
+  for (const auto& g : m.geometry)
+    w.spheres.push_back({static_cast<std::int32_t>(g.center.x), static_cast<std::int32_t>(g.center.y),
+                         static_cast<std::int32_t>(g.center.z), static_cast<std::uint32_t>(g.radius), 0, {}, 0, 1});
+  for (std::size_t i = 0; i < m.hierarchy.size(); ++i) {
+    const device::HierarchyNode& v = m.hierarchy[i];
+    if (i > 0) {
+      FUZZ_CHECK(p.x.contains(v.bound.center.x) && p.y.contains(v.bound.center.y) && p.z.contains(v.bound.center.z) &&
+                     p.radius.contains(v.bound.radius),
+                 "a bound outside the preset's formats");
+    }
+    w.nodes.push_back({static_cast<std::int32_t>(v.bound.center.x), static_cast<std::int32_t>(v.bound.center.y),
+                       static_cast<std::int32_t>(v.bound.center.z), static_cast<std::uint32_t>(v.bound.radius),
+                       static_cast<std::uint16_t>(v.first_child), static_cast<std::uint8_t>(v.children),
+                       static_cast<std::uint8_t>(v.spheres), static_cast<std::uint32_t>(v.first_sphere)});
+  }
+  FUZZ_CHECK(!link::hierarchy_error(w).has_value(), "a hierarchy in scene memory that breaks the wire's rules");
 }
 
 
@@ -238,7 +273,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (wire != link::WireVersion::kV1 && !(config & 0x10)) tripsitter::fuzz::repair_frame_crcs(wire, link_bytes);
   const std::span<const std::uint8_t> bytes(link_bytes);
 
-  const device::DevicePreset preset = (config & 2) ? device::board_2023_preset() : device::wide_preset();
+  const device::DevicePreset preset = (config & 0x80) ? device::artix_path_preset()
+                                      : (config & 2)   ? device::board_2023_preset()
+                                                       : device::wide_preset();
   const std::size_t unit = std::size_t{1} << (2 * ((config >> 2) & 3));
   const std::vector<Transfer> transfers = transfers_of(ops, unit, bytes.size());
 

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include <tripsitter/core/sphere_kernel.h>
+#include <tripsitter/device/artix_units.h>
+#include <tripsitter/link/frame.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/scene_memory.h>
 #include <tripsitter/device/worker.h>
@@ -18,7 +20,9 @@
 namespace tripsitter::fuzz {
 
 // The corners, the centre, and where the first spheres' centres project, with up to core::kMaxBounces
-// mirror bounces (more than any preset, as `--bounces 6` allows).
+// mirror bounces (more than any preset, as `--bounces 6` allows). A world with a hierarchy (the artix path preset's)
+// is also walked by the sphere units for the same pixels' camera rays: a walk ends within the wire's depth, and
+// what it hits the units hit.
 inline void trace_some_pixels(const device::SceneMemory& m, const device::DevicePreset& p) {
   const device::Worker worker(p.sqrt_iterations, core::kMaxBounces);
   std::vector<std::pair<int, int>> pixels = {{0, 0}, {639, 0}, {0, 479}, {639, 479}, {320, 240}};
@@ -34,6 +38,20 @@ inline void trace_some_pixels(const device::SceneMemory& m, const device::Device
   for (const auto& [col, row] : pixels) {
     const core::PixelTrace t = worker.trace(col, row, m);
     FUZZ_CHECK(t.bounces >= 0 && t.bounces <= core::kMaxBounces, "a pixel bounced more often than allowed");
+  }
+  if (m.hierarchy.empty() || !p.units) return;
+  const device::artix::UnitWorld world = device::artix::prepare_world(m);
+  std::vector<int> passes;
+  for (const auto& [col, row] : pixels) {
+    const device::artix::UnitRay ray{{}, device::artix::camera_direction(col, row)};
+    passes.clear();
+    const device::artix::Hit hit = device::artix::walk_closest_hit(ray, world, -1, passes);
+    FUZZ_CHECK(!passes.empty() && passes.size() <= link::kMaxHierarchyDepth + 1, "a walk deeper than the wire allows");
+    if (hit.index >= 0) {
+      const device::artix::Quadratic q =
+          device::artix::quadratic(ray, world.spheres[static_cast<std::size_t>(hit.index)]);
+      FUZZ_CHECK(q.hit() && q.td == hit.td, "a walk's hit that the units do not confirm");
+    }
   }
 }
 

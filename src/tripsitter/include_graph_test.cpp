@@ -55,11 +55,13 @@ IncludeRules include_rules() {
   code["cmd"] = every_block;
 
   // Every block's tests may include the float renderer, the reference a frame is compared with, and the scenes
-  // it renders (board/board_test.cpp: render/normal.h). One exception besides: display's tests drive the
-  // monitor and the VCD writer with the device's own VGA timing generator (monitor_test.cpp, vcd_test.cpp).
+  // it renders (board/board_test.cpp: render/normal.h). Two exceptions besides: display's tests drive the
+  // monitor and the VCD writer with the device's own VGA timing generator (monitor_test.cpp, vcd_test.cpp), and
+  // the device's tests walk worlds with the hierarchy the host builds for them (device/test_util.h).
   IncludeGraph tests;
   for (const auto& [block, _] : code) tests[block] = {"render", "scene"};
   tests["display"].insert("device/vga.h");
+  tests["device"].insert("host/hierarchy.h");
   return {code, tests};
 }
 

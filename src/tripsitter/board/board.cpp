@@ -13,6 +13,7 @@ link::SceneFormats formats_of(const device::DevicePreset& preset) {
     f.ior_min = device::kPathIorMin;
     f.ior_max = device::kPathIorMax;
   }
+  f.hierarchy = preset.walks_hierarchy();
   return f;
 }
 

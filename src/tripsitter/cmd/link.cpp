@@ -99,6 +99,20 @@ void print_world(link::WireVersion wire, const link::World& w, const link::Seque
           << s.fuzz / link::kFuzzScale << ", ior " << s.ior / link::kIorScale;
     print_sphere(i, f.to_double(s.x), f.to_double(s.y), f.to_double(s.z), f.to_double(s.radius), extra.str());
   }
+  if (!w.nodes.empty()) std::cout << "  hierarchy of " << w.nodes.size() << " nodes (node 0 the root):\n";
+  for (std::size_t i = 0; i < w.nodes.size(); ++i) {
+    const auto& v = w.nodes[i];
+    const auto range = [](std::uint64_t first, std::uint64_t n) {
+      return n == 0 ? std::string("none") : n == 1 ? std::to_string(first)
+                                                     : std::to_string(first) + ".." + std::to_string(first + n - 1);
+    };
+    std::cout << "  node " << i << ": ";
+    if (i > 0)
+      std::cout << "bound centre (" << f.to_double(v.x) << ", " << f.to_double(v.y) << ", " << f.to_double(v.z)
+                << ") radius " << f.to_double(v.radius) << ", ";
+    std::cout << "children " << range(v.first_child, v.children) << ", spheres " << range(v.first_sphere, v.sphere_count)
+              << "\n";
+  }
 }
 
 void print_word(const link::V1Sphere& s, std::size_t place) {

@@ -82,7 +82,10 @@ Vec3i camera_direction(int col, int row) {
   return d;
 }
 
-Quadratic quadratic(const UnitRay& ray, const UnitSphere& s) {
+namespace {
+
+// The unit's pair up to its square root: bd, f and disc.
+Quadratic discriminant(const UnitRay& ray, const UnitSphere& s) {
   constexpr int D = kDirectionFrac;
   Quadratic q;
   Vec3i oc{};
@@ -106,10 +109,27 @@ Quadratic quadratic(const UnitRay& ray, const UnitSphere& s) {
     ff += operand * operand;
   }
   q.disc = saturated ? -1 : s.r2s - ff;
-  if (q.disc < 0) return q;
-  q.s = static_cast<std::int64_t>(core::isqrt(static_cast<std::uint64_t>(q.disc)));  // < 2^17
-  q.td = q.bd - (q.s << shift);
   return q;
+}
+
+std::int64_t root_of(const Quadratic& q) {
+  return static_cast<std::int64_t>(core::isqrt(static_cast<std::uint64_t>(q.disc)));  // < 2^17
+}
+
+}  // namespace
+
+Quadratic quadratic(const UnitRay& ray, const UnitSphere& s) {
+  Quadratic q = discriminant(ray, s);
+  if (q.disc < 0) return q;
+  q.s = root_of(q);
+  q.td = q.bd - (q.s << (kDirectionFrac + s.e));
+  return q;
+}
+
+bool enters(const UnitRay& ray, const UnitSphere& bound) {
+  const Quadratic q = discriminant(ray, bound);
+  // The far root b + s 2^e is above 0 when b is, whatever s: the square root only for a ray pointing away.
+  return q.disc >= 0 && (q.bd > 0 || q.bd + (root_of(q) << (kDirectionFrac + bound.e)) > 0);
 }
 
 namespace {

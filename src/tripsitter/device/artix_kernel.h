@@ -102,6 +102,8 @@ Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, int exc
 Vec3i normal(const UnitRay& ray, const UnitSphere& s, bool far = false);
 // The far root's t d of `ray` on `s`, b + s 2^e times 2^17, when the ray meets the sphere; else -1.
 std::int64_t far_td(const UnitRay& ray, const UnitSphere& s);
+// Whether `ray` meets `bound` ahead of its origin: far_td(ray, bound) > 0 (a hierarchy's bound entered).
+bool enters(const UnitRay& ray, const UnitSphere& bound);
 // The hit point o + round(t) d of `ray` at td > 0, on the position grid: where a reflected ray starts.
 Vec3i hit_point(const UnitRay& ray, std::int64_t td);
 // The normal-map colour of the hit of `ray` on `s`: floor(7 n_k + 7) clamped to 0..14, exact (a four-bit quotient).

@@ -142,42 +142,48 @@ TEST(ArtixPath, SamplesFollowThePathPresetsOnTheSameDraws) {
 namespace tripsitter::device::artix {
 namespace {
 
+// A ray from anywhere in the world's formats: every other from a point on sphere `from` (a bounce's origin), the
+// others from anywhere; every fourth grazing a sphere's rim; directions at random.
+UnitRay random_ray(std::mt19937_64& rng, std::span<const UnitSphere> spheres, int from, int k) {
+  std::uniform_int_distribution<std::int64_t> coordinate(-(std::int64_t{1} << 21) + 1, (std::int64_t{1} << 21) - 1);
+  std::uniform_int_distribution<std::int64_t> component(-30000, 30000);
+  UnitRay ray;
+  if (from >= 0 && k % 2 == 0) {
+    const UnitSphere& s = spheres[static_cast<std::size_t>(from)];
+    const Vec3i n = unit_direction({component(rng), component(rng), component(rng)});
+    for (std::size_t c = 0; c < 3; ++c)
+      ray.o[c] = std::clamp(s.c[c] + ((n[c] * s.r) >> kDirectionFrac), -(std::int64_t{1} << 22), std::int64_t{1} << 22);
+  } else {
+    ray.o = {coordinate(rng), coordinate(rng), coordinate(rng)};
+  }
+  approx::Unit3 v{component(rng), component(rng), component(rng)};
+  if (from >= 0 && k % 4 == 1) {  // grazing a sphere's rim: towards c + r w, w across the line of sight
+    const UnitSphere& s = spheres[static_cast<std::size_t>(rng() % spheres.size())];
+    const double sx = static_cast<double>(s.c[0] - ray.o[0]), sy = static_cast<double>(s.c[1] - ray.o[1]),
+                 sz = static_cast<double>(s.c[2] - ray.o[2]);
+    const double wx = -sy, wy = sx, norm = std::hypot(wx, wy) + 1e-9;
+    const double r = static_cast<double>(s.r) + static_cast<double>(static_cast<int>(rng() % 9) - 4);
+    const double tx = sx + r * wx / norm, ty = sy + r * wy / norm, tz = sz, len = std::sqrt(tx * tx + ty * ty + tz * tz);
+    if (len > 0) v = {std::llround(tx / len * 16384), std::llround(ty / len * 16384), std::llround(tz / len * 16384)};
+  }
+  if (core::dot(v, v) < 64) v = {0, 0, 1000};
+  ray.d = unit_direction(v);
+  return ray;
+}
+
 // The fast model's search through the balls finds the plain search's hit, for rays from anywhere in the world's
-// formats (origins on spheres and at random, directions at random) on random worlds of every kind (in view, behind,
-// around the camera, huge, tiny, at the formats' limits).
+// formats on random worlds of every kind (in view, behind, around the camera, huge, tiny, at the formats' limits).
 TEST(ArtixPath, TheBallsFindThePlainSearchsHit) {
   std::mt19937_64 rng(19);
   const DevicePreset p = artix_path_preset();
-  std::uniform_int_distribution<std::int64_t> coordinate(-(std::int64_t{1} << 21) + 1, (std::int64_t{1} << 21) - 1);
-  std::uniform_int_distribution<std::int64_t> component(-30000, 30000);
   int hits = 0, rays = 0;
   for (int w = 0; w < 60; ++w) {
     const SceneMemory scene = testing::random_path_world(p, rng, 40);
     UnitWorld world = prepare_world(scene);
     world.balls = build_balls(world.spheres);
     for (int k = 0; k < 2000; ++k) {
-      UnitRay ray;
       const int from = world.spheres.empty() ? -1 : static_cast<int>(rng() % world.spheres.size());
-      if (from >= 0 && k % 2 == 0) {  // from a point on a sphere (a bounce's origin)
-        const UnitSphere& s = world.spheres[static_cast<std::size_t>(from)];
-        const Vec3i n = unit_direction({component(rng), component(rng), component(rng)});
-        for (std::size_t c = 0; c < 3; ++c)
-          ray.o[c] = std::clamp(s.c[c] + ((n[c] * s.r) >> kDirectionFrac), -(std::int64_t{1} << 22), std::int64_t{1} << 22);
-      } else {
-        ray.o = {coordinate(rng), coordinate(rng), coordinate(rng)};
-      }
-      approx::Unit3 v{component(rng), component(rng), component(rng)};
-      if (from >= 0 && k % 4 == 1) {  // grazing a sphere's rim: towards c + r w, w across the line of sight
-        const UnitSphere& s = world.spheres[static_cast<std::size_t>(rng() % world.spheres.size())];
-        const double sx = static_cast<double>(s.c[0] - ray.o[0]), sy = static_cast<double>(s.c[1] - ray.o[1]),
-                     sz = static_cast<double>(s.c[2] - ray.o[2]);
-        const double wx = -sy, wy = sx, norm = std::hypot(wx, wy) + 1e-9;
-        const double r = static_cast<double>(s.r) + static_cast<double>(static_cast<int>(rng() % 9) - 4);
-        const double tx = sx + r * wx / norm, ty = sy + r * wy / norm, tz = sz, len = std::sqrt(tx * tx + ty * ty + tz * tz);
-        if (len > 0) v = {std::llround(tx / len * 16384), std::llround(ty / len * 16384), std::llround(tz / len * 16384)};
-      }
-      if (core::dot(v, v) < 64) v = {0, 0, 1000};
-      ray.d = unit_direction(v);
+      const UnitRay ray = random_ray(rng, world.spheres, from, k);
       const int excluded = k % 3 == 0 ? -1 : from;
       const Hit want = closest_hit(ray, world.spheres, excluded);
       const Hit got = closest_hit(ray, world.spheres, world.balls, excluded);
@@ -188,6 +194,41 @@ TEST(ArtixPath, TheBallsFindThePlainSearchsHit) {
     }
   }
   EXPECT_GT(hits, rays / 10);
+}
+
+// The walk of the hierarchy the host sends finds the plain search's hit on the same worlds and rays, so its bounds
+// hold everything the units can hit (their margin is enough), and it tests fewer pairs than the plain search.
+TEST(ArtixPath, TheHierarchysWalkFindsThePlainSearchsHit) {
+  std::mt19937_64 rng(20);
+  const DevicePreset p = artix_path_preset();
+  int hits = 0, rays = 0, walked_worlds = 0;
+  std::int64_t walked = 0, plain = 0;
+  for (int w = 0; w < 60; ++w) {
+    const SceneMemory scene = testing::with_hierarchy(p, testing::random_path_world(p, rng, 40));
+    if (scene.hierarchy.empty()) continue;
+    ++walked_worlds;
+    const UnitWorld world = prepare_world(scene);
+    std::vector<int> passes;
+    for (int k = 0; k < 2000; ++k) {
+      const int from = static_cast<int>(rng() % world.spheres.size());
+      const UnitRay ray = random_ray(rng, world.spheres, from, k);
+      const int excluded = k % 3 == 0 ? -1 : from;
+      const Hit want = closest_hit(ray, world.spheres, excluded);
+      passes.clear();
+      const Hit got = walk_closest_hit(ray, world, excluded, passes);
+      ASSERT_EQ(got.index, want.index) << "world " << w << " ray " << k;
+      ASSERT_EQ(got.td, want.td) << "world " << w << " ray " << k;
+      ASSERT_FALSE(passes.empty());
+      ASSERT_LE(static_cast<int>(passes.size()), 2) << "the host's hierarchy has two levels";
+      for (const int n : passes) walked += n;
+      plain += static_cast<std::int64_t>(world.spheres.size());
+      hits += want.index >= 0;
+      ++rays;
+    }
+  }
+  EXPECT_GT(walked_worlds, 40);
+  EXPECT_GT(hits, rays / 10);
+  EXPECT_LT(walked, plain * 3 / 4) << "the walk tests " << walked << " pairs where the plain search tests " << plain;
 }
 
 }  // namespace

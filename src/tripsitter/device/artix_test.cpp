@@ -199,14 +199,23 @@ TEST(ArtixSchedule, SamplesAreChainsAndAConvergedPixelTakesNoSlot) {
   ASSERT_EQ(p.units->hit_latency, 40);
   ASSERT_EQ(p.units->reflect_latency, 69);
   ASSERT_EQ(p.units->shade_latency, 32);
+  using Pass = artix::LineChains::Pass;
   artix::LineChains work;
-  for (int c = 0; c <= kLineWidth; ++c) {
-    work.start.push_back(static_cast<int>(work.passes.size()));
-    if (c == 5) work.passes.insert(work.passes.end(), {2, 1});  // two samples: one bounces once
-    if (c == 325 || c == 326) work.passes.push_back(1);        // a sample that meets nothing
+  const auto chain = [&](std::initializer_list<Pass> passes) {
+    work.chain_start.push_back(static_cast<int>(work.passes.size()));
+    work.passes.insert(work.passes.end(), passes);
+  };
+  for (int c = 0; c < kLineWidth; ++c) {
+    work.start.push_back(static_cast<int>(work.chain_start.size()));
+    if (c == 5) {  // two samples: one bounces once
+      chain({{10, 0}, {10, 69}});
+      chain({{10, 0}});
+    }
+    if (c == 325 || c == 326) chain({{10, 0}});  // a sample that meets nothing
   }
-  const std::vector<int> tests(kLineWidth, 10);
-  const auto finish = artix::unit_finish_cycles(p, 10, work, tests);
+  work.start.push_back(static_cast<int>(work.chain_start.size()));
+  work.chain_start.push_back(static_cast<int>(work.passes.size()));
+  const auto finish = artix::unit_finish_cycles(p, work);
   // Unit 5: column 5's first sample issues [0, 10), its hit is known at 50 and its bounce waits from 119; its
   // second sample issues [10, 20), known at 60; column 325 issues [20, 30), known at 70, done at 102; the bounce
   // issues [119, 129), known at 169: column 5 is done at 201, after both its samples.
@@ -215,6 +224,29 @@ TEST(ArtixSchedule, SamplesAreChainsAndAConvergedPixelTakesNoSlot) {
   // Unit 6: column 6 traces nothing (converged), shown 32 cycles after the unit reaches it; 326 issues [0, 10).
   EXPECT_EQ(finish[6], 32);
   EXPECT_EQ(finish[326], 82);
+}
+
+// A bounce that walks the hierarchy is a pass a level: the next level joins the queue as soon as the previous
+// level's hits are known (no scatter between), and a level known earlier goes before a bounce queued earlier.
+TEST(ArtixSchedule, AWalksNextLevelFollowsItsHitsWithoutTheScatter) {
+  DevicePreset p = artix_path_preset();
+  p.workers = 320;
+  using Pass = artix::LineChains::Pass;
+  artix::LineChains work;
+  for (int c = 0; c < kLineWidth; ++c) {
+    work.start.push_back(static_cast<int>(work.chain_start.size()));
+    work.chain_start.push_back(static_cast<int>(work.passes.size()));
+    work.passes.push_back({4, 0});
+    if (c == 5) work.passes.insert(work.passes.end(), {Pass{9, 69}, Pass{16, 0}});  // a bounce: bounds, then spheres
+  }
+  work.start.push_back(static_cast<int>(work.chain_start.size()));
+  work.chain_start.push_back(static_cast<int>(work.passes.size()));
+  const auto finish = artix::unit_finish_cycles(p, work);
+  // Unit 5: column 5's camera ray issues [0, 4), known at 44; column 325 issues [4, 8), done at 48 + 32 = 80. The
+  // bounce's bounds wait from 113 and issue [113, 122), known at 162; its spheres issue [162, 178), known at 218:
+  // done at 250.
+  EXPECT_EQ(finish[325], 80);
+  EXPECT_EQ(finish[5], 250);
 }
 
 TEST(ArtixSchedule, AHeavyLineIsLateFromTheLeadOn) {

@@ -24,6 +24,7 @@
 #include <tripsitter/core/rgb444.h>
 #include <tripsitter/core/screen.h>
 #include <tripsitter/core/sphere_kernel.h>
+#include <tripsitter/device/artix_batch.h>
 #include <tripsitter/device/artix_kernel.h>
 #include <tripsitter/device/ball_tree.h>
 #include <tripsitter/device/frame_memory.h>
@@ -40,18 +41,46 @@ namespace tripsitter::device::artix {
 // 2^(max(e, 0) + 1)), and in front of the origin.
 BallTree build_balls(std::span<const UnitSphere> spheres);
 
-// The world as the units read it: each sphere with its per-world constants and its cull bounds, and the fast
-// model's balls (empty until it builds them: the plain model does without).
+// A node of the world's hierarchy as the walker reads it (scene_memory.h's HierarchyNode): its bound prepared as a
+// sphere the units test (the root's is never tested).
+struct UnitNode {
+  UnitSphere bound;
+  int first_child = 0;
+  int children = 0;
+  int first_sphere = 0;
+  int spheres = 0;
+};
+
+// The world as the units read it: each sphere with its per-world constants and its cull bounds, the hierarchy the
+// world carries (empty if none), and what the fast model adds (empty until it builds them: the plain model does
+// without): the balls, for bounced rays in a world without a hierarchy, and the spheres and the hierarchy's bounds
+// as blocks for the filter (artix_batch.h), which the walk then uses.
 struct UnitWorld {
   std::vector<UnitSphere> spheres;
   std::vector<core::ScreenBounds> bounds;  // inclusive; empty (lo > hi) when culled everywhere
+  std::vector<UnitNode> nodes;
   BallTree balls;
+  SphereBlock sphere_block;  // spheres[i] is entry i
+  SphereBlock bound_block;   // nodes[i].bound is entry i
 };
+// The fast model's additions for `world` (balls or blocks, as above).
+void add_fast_search(UnitWorld& world);
 
 // closest_hit(ray, spheres, excluded), the same hit, found through the balls.
 Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, const BallTree& balls, int excluded);
-// REQUIRES scene memory in formats the preset validated (coordinates of at most 22 bits, radii of at most 21).
+// REQUIRES scene memory in formats the preset validated (coordinates of at most 22 bits, radii of at most 21;
+// the hierarchy's bounds too, as the receiver checks them).
 UnitWorld prepare_world(const SceneMemory& scene);
+
+// The closest hit of a ray that is not the camera's over every sphere but `excluded`, found by walking the
+// world's hierarchy (REQUIRES world.nodes not empty) level by level, as the units do: the first pass tests the
+// root's spheres and the bounds of its children, each later pass the spheres and the children's bounds of the
+// nodes whose bound the previous pass entered (a bound is entered when the ray meets it ahead of its origin: the
+// far root b + s 2^e above 0). The closest sphere hit wins, ties to the one sent first (closest_hit's rule), so a
+// hierarchy whose bounds hold what the units hit gives closest_hit's answer. Appends the pairs each pass issued
+// (every pass has at least one) to `passes`. With the world's blocks (add_fast_search) it filters each node's
+// spheres and bounds before the units' arithmetic: the same answer.
+Hit walk_closest_hit(const UnitRay& ray, const UnitWorld& world, int excluded, std::vector<int>& passes);
 
 // The cull bounds of one sphere (the header's rule).
 core::ScreenBounds cull_bounds(const UnitSphere& s);
@@ -68,22 +97,34 @@ struct RowTiles {
 };
 RowTiles row_tiles(const UnitWorld& world, int row, int tile_columns);
 
-// A line's work as chains of passes: a chain is a camera ray and the rays that follow it one after another (the
-// mirror model's reflections, a path's bounces), each pass waiting for the previous one's hit and its bounce.
-// Column c's chains are passes[start[c] .. start[c + 1]), each its number of passes (>= 1): one chain a column
-// in the mirror model, one a sample in the path tracer's (none for a pixel that traces nothing).
+// closest_hit(ray, spheres, list, excluded) through the filter (artix_batch.h): block entries first ..
+// first + list.size() - 1 are the list's spheres in its order (the fast model's tile lists).
+Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, std::span<const int> list,
+                const SphereBlock& block, int first, int excluded);
+
+// A line's work as chains of passes: a chain is a camera ray and the passes that follow it one after another (the
+// mirror model's reflections; a path's bounces, each a walk of the hierarchy's levels), each pass waiting for the
+// previous one's hit. Column c's chains are start[c] .. start[c + 1] - 1 (one a column in the mirror model, one a
+// sample in the path tracer's, none for a pixel that traces nothing); chain k's passes are passes[chain_start[k]
+// .. chain_start[k + 1]), at least one, the first the camera ray's.
 struct LineChains {
-  std::vector<int> start;   // kLineWidth + 1 entries
-  std::vector<int> passes;
+  struct Pass {
+    int tests = 0;  // the pairs it issues
+    int wait = 0;   // cycles from the previous pass's hit known to this pass joining the queue (a bounce's
+                    // reflect_latency, 0 for the next level of a walk; the chain's first: unused)
+  };
+  std::vector<int> start;        // kLineWidth + 1 entries
+  std::vector<int> chain_start;  // one entry a chain and one more
+  std::vector<Pass> passes;
 };
 
-// The units' schedule of a line's chains, the camera ray of column c testing camera_tests[c] spheres and every
-// other ray `spheres`: when each column's colour reaches the line buffer, in cycles from the start of the line's
-// work. A unit takes its columns in order and a column's chains in order; a bounced ray joins the unit's queue
-// reflect_latency cycles after its pass's hit is known, and the colour is there shade_latency after the last hit
-// of the column's last chain (a column with no chains: shade_latency after the unit reaches it).
-std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres, const LineChains& work,
-                                             std::span<const int> camera_tests);
+// The units' schedule of a line's chains: when each column's colour reaches the line buffer, in cycles from the
+// start of the line's work. A pass keeps its unit's issue port max(tests, min_pass) cycles and its hit is known
+// hit_latency after; the next pass of its chain joins the unit's queue `wait` cycles later. A unit takes the
+// queued pass known first (ties in the order queued) when one is known, else its next chain (its columns in
+// order, a column's chains in order), else it waits for the queue. A column's colour is there shade_latency after
+// the last hit of its last chain (a column with no chains: shade_latency after the unit reaches it).
+std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const LineChains& work);
 // The mirror model's line: column c one chain of 1 + pixels[c].bounces passes.
 std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres,
                                              std::span<const core::PixelTrace> pixels,
@@ -103,9 +144,10 @@ LineResult render_line(const DevicePreset& preset, const UnitWorld& world, int r
 
 // Row `row` of a path frame on the units (the artix path preset): each pixel's entry and samples (path_pixel with
 // artix_path.h's sample, the camera ray's search narrowed to its tile with kTiles), the line's chains (one a
-// sample, as many passes as its rays) scheduled; kTiles searches bounced rays through world.balls, which must be
-// built (build_balls); a pixel on time shows its colour and writes its entry, a late one
-// is black and keeps its entry. Adds what the units traced to `counters` (every pixel, late or not).
+// sample) scheduled. A bounced ray walks the world's hierarchy (walk_closest_hit: a pass a level) or, in a world
+// without one, tests every sphere in one pass; kTiles finds the latter's hit through world.balls, which must then
+// be built (build_balls). A pixel on time shows its colour and writes its entry, a late one is black and keeps its
+// entry. Adds what the units traced to `counters` (every pixel, late or not).
 LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, int row, const PathFrame& frame,
                             std::span<AccumEntry> memory, std::span<core::Rgb444> line, PathCounters& counters,
                             Search search);

@@ -27,7 +27,7 @@ void FastTracer::load(const SceneMemory& scene) {
   scene_ = &scene;
   if (preset_.units) {  // the units check their own operands (artix::prepare_sphere)
     units_ = artix::prepare_world(scene);
-    if (preset_.path) units_.balls = artix::build_balls(units_.spheres);  // for bounced rays
+    if (preset_.path) artix::add_fast_search(units_);  // for bounced rays
     narrow_ = true;
     return;
   }

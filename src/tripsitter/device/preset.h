@@ -114,6 +114,9 @@ struct DevicePreset {
   // Whether a line's demand (LineResult::demand_cycles) is exact when pixels are late: with trace_late_pixels, and
   // always on the sphere units, whose model traces every pixel for its schedule; otherwise a lower bound.
   bool demand_exact() const { return trace_late_pixels || units.has_value(); }
+  // The sphere units path-tracing (artix-path): bounced rays walk the world's hierarchy of bounding spheres when
+  // it carries one, so the host sends one (link::SceneFormats::hierarchy).
+  bool walks_hierarchy() const { return units.has_value() && path.has_value(); }
   // Cycles a pixel with `bounces` reflections keeps its worker from starting the next pixel, with
   // `spheres` spheres in scene memory.
   std::int64_t pixel_occupancy(std::int64_t spheres, int bounces) const;

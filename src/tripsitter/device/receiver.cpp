@@ -10,7 +10,8 @@
 namespace tripsitter::device {
 namespace {
 
-// The CRC-32 of every sphere's geometry and surface, little-endian field by field, as the bytes are written.
+// The CRC-32 of every sphere's geometry and surface, then of every node of the hierarchy, little-endian field by
+// field, as the bytes are written.
 std::uint32_t content_of(const SceneMemory& scene) {
   std::uint32_t crc = 0;
   for (std::size_t i = 0; i < scene.geometry.size(); ++i) {
@@ -24,6 +25,15 @@ std::uint32_t content_of(const SceneMemory& scene) {
     for (const std::uint8_t a : w.albedo) bytes[at++] = a;
     for (const std::uint16_t v : {w.fuzz, w.ior})
       for (int b = 0; b < 2; ++b) bytes[at++] = static_cast<std::uint8_t>(v >> (8 * b));
+    crc = core::crc32(bytes, crc);
+  }
+  for (const HierarchyNode& v : scene.hierarchy) {
+    std::array<std::uint8_t, 8 * 4> bytes{};
+    std::size_t at = 0;
+    for (const std::int64_t f : {v.bound.center.x, v.bound.center.y, v.bound.center.z, v.bound.radius,
+                                 std::int64_t{v.first_child}, std::int64_t{v.children}, std::int64_t{v.first_sphere},
+                                 std::int64_t{v.spheres}})
+      for (int b = 0; b < 4; ++b) bytes[at++] = static_cast<std::uint8_t>(static_cast<std::uint64_t>(f) >> (8 * b));
     crc = core::crc32(bytes, crc);
   }
   return crc;
@@ -43,7 +53,8 @@ Receiver::Receiver(const DevicePreset& preset, link::WireVersion wire)
                      if (!failure.intact || admit(failure.intact->session, failure.intact->sequence, bytes)) {
                        report(link::to_string(failure.error), failure.detail, bytes, failure.offset);
                      }
-                   }}),
+                   }},
+              preset.walks_hierarchy()),
       sequence_(wire == link::WireVersion::kV1 ? link::WireVersion::kV3 : wire) {}
 
 void Receiver::receive(std::span<const std::uint8_t> bytes) {
@@ -118,6 +129,7 @@ void Receiver::accept_v1(const link::V1Sphere& word) {
   // A v1 word carries no ior: scene memory holds a scene material's default, 1.5, in the v2 wire's u4.12.
   constexpr auto kIor = static_cast<std::uint16_t>(1.5 * link::kIorScale);
   back_.surfaces.assign(1, SurfaceWord{link::kMaterialLambertian, {r, g, b}, 0, kIor});
+  back_.hierarchy.clear();
   back_.content = content_of(back_);
   back_.sequence = ++v1_words_;
   back_.valid = true;
@@ -150,7 +162,7 @@ std::optional<link::SequenceCheck> Receiver::admit(std::uint32_t session, std::u
 }
 
 void Receiver::accept_frame(link::World&& world) {
-  const std::size_t bytes = link::frame_bytes(wire_, world.spheres.size());
+  const std::size_t bytes = link::frame_bytes(wire_, world.spheres.size(), world.nodes.size());
   const std::optional<link::SequenceCheck> check = admit(world.session, world.sequence, bytes);
   if (!check) return;
   if (world.frac_bits != preset_.frac_bits()) {
@@ -173,12 +185,27 @@ void Receiver::accept_frame(link::World&& world) {
       return;
     }
   }
+  // The hierarchy's bounds are read by the same sphere units: the root's carries nothing and is never tested.
+  for (std::size_t i = 1; i < world.nodes.size(); ++i) {
+    const auto& v = world.nodes[i];
+    if (!preset_.x.contains(v.x) || !preset_.y.contains(v.y) || !preset_.z.contains(v.z) ||
+        !preset_.radius.contains(v.radius)) {
+      reject("the bound of node " + std::to_string(i) + " lies outside the device's number formats", bytes);
+      return;
+    }
+  }
   back_.geometry.resize(world.spheres.size());
   back_.surfaces.resize(world.spheres.size());
   for (std::size_t i = 0; i < world.spheres.size(); ++i) {
     const auto& s = world.spheres[i];
     back_.geometry[i] = {{s.x, s.y, s.z}, s.radius};
     back_.surfaces[i] = {s.material, s.albedo, s.fuzz, s.ior};
+  }
+  back_.hierarchy.resize(world.nodes.size());
+  for (std::size_t i = 0; i < world.nodes.size(); ++i) {
+    const auto& v = world.nodes[i];
+    back_.hierarchy[i] = {{{v.x, v.y, v.z}, v.radius}, v.first_child, v.children, static_cast<int>(v.first_sphere),
+                          v.sphere_count};
   }
   back_.content = content_of(back_);
   back_.sequence = world.sequence;

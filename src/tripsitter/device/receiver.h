@@ -57,6 +57,8 @@ struct ReceiverEvent {
 
 class Receiver {
  public:
+  // A preset that walks no hierarchy (DevicePreset::walks_hierarchy) refuses a v3 world that carries one at its
+  // header, as the RTL receiver does (its content byte is not 0).
   Receiver(const DevicePreset& preset, link::WireVersion wire);
 
   // Tools that explain a stream (`link decode`) listen; the device itself does not.

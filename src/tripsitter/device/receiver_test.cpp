@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <random>
+
 #include "test_util.h"
 
 namespace tripsitter::device {
@@ -201,6 +204,67 @@ TEST(Receiver, V1CountsNoMissingWorlds) {
   EXPECT_EQ(rx.stats().worlds_accepted, 2u);
   EXPECT_EQ(rx.stats().frames_rejected, 1u);
   EXPECT_EQ(rx.stats().worlds_missing, 0u);  // v1 words carry no sequence number
+}
+
+// A world's hierarchy comes into scene memory with it; a malformed one (here each of the wire's rules broken in
+// turn) or one whose bounds the device's formats cannot hold refuses the whole world, counted as a rejected
+// frame that arrived intact (nothing missing), and the last good world stays.
+TEST(Receiver, AMalformedHierarchyRefusesTheWholeWorldAndTheLastGoodOneStays) {
+  const DevicePreset p = artix_path_preset();
+  std::mt19937_64 rng(7);
+  const SceneMemory scene = testing::with_hierarchy(p, testing::random_path_world(p, rng, 30));
+  ASSERT_FALSE(scene.hierarchy.empty());
+  Receiver rx(p, link::WireVersion::kV3);
+  SceneMemory front;
+  rx.receive(testing::frame_of_scene(p, 1, scene, link::WireVersion::kV3, 9));
+  ASSERT_TRUE(rx.swap_if_pending(front));
+  ASSERT_EQ(front.hierarchy.size(), scene.hierarchy.size());
+  EXPECT_EQ(front.hierarchy[1].bound.radius, scene.hierarchy[1].bound.radius);
+  const std::uint32_t content = front.content;
+  SceneMemory flat = scene;
+  flat.hierarchy.clear();
+  EXPECT_NE(testing::frame_of_scene(p, 1, flat, link::WireVersion::kV3, 9),
+            testing::frame_of_scene(p, 1, scene, link::WireVersion::kV3, 9));
+  const std::vector<std::pair<const char*, std::function<void(SceneMemory&)>>> breaks = {
+      {"names nodes", [](SceneMemory& m) { m.hierarchy[0].children += 1; }},                  // a child out of range
+      {"a cycle", [](SceneMemory& m) { m.hierarchy[1].first_child = 1, m.hierarchy[1].children = 1; }},
+      {"names spheres", [](SceneMemory& m) { m.hierarchy.back().first_sphere += 1; }},         // beyond the last
+      {"does not enclose", [](SceneMemory& m) { m.hierarchy[1].bound.radius /= 2; }},
+      {"outside the device's number formats", [](SceneMemory& m) { m.hierarchy[1].bound.radius = std::int64_t{1} << 22; }},
+  };
+  std::uint32_t sequence = 2;
+  for (const auto& [words, damage] : breaks) {
+    SCOPED_TRACE(words);
+    SceneMemory bad = scene;
+    damage(bad);
+    const std::uint64_t rejected = rx.stats().frames_rejected;
+    rx.receive(testing::frame_of_scene(p, sequence++, bad, link::WireVersion::kV3, 9));
+    EXPECT_EQ(rx.stats().frames_rejected, rejected + 1);
+    EXPECT_NE(rx.stats().last_error.find(words), std::string::npos) << rx.stats().last_error;
+    EXPECT_TRUE(rx.ready());
+    EXPECT_FALSE(rx.swap_if_pending(front));
+    EXPECT_EQ(front.sequence, 1u);
+    EXPECT_EQ(front.content, content);
+  }
+  EXPECT_EQ(rx.stats().worlds_missing, 0u) << "every refused world arrived intact";
+  rx.receive(testing::frame_of_scene(p, sequence, scene, link::WireVersion::kV3, 9));
+  EXPECT_TRUE(rx.swap_if_pending(front));
+}
+
+// A device that walks no hierarchy (every preset but artix-path) refuses a world that carries one at its header's
+// content byte, as the RTL receiver does, and hunts on from the next byte.
+TEST(Receiver, APresetThatWalksNoHierarchyRefusesOneAtTheHeader) {
+  const DevicePreset p = artix_preset();
+  std::mt19937_64 rng(8);
+  const SceneMemory scene = testing::with_hierarchy(artix_path_preset(), testing::random_path_world(p, rng, 30));
+  ASSERT_FALSE(scene.hierarchy.empty());
+  Receiver rx(p, link::WireVersion::kV3);
+  const auto bytes = testing::frame_of_scene(p, 1, scene, link::WireVersion::kV3, 9);
+  rx.receive(bytes);
+  EXPECT_TRUE(rx.ready());
+  EXPECT_EQ(rx.stats().worlds_accepted, 0u);
+  EXPECT_GE(rx.stats().frames_rejected, 1u);
+  EXPECT_EQ(rx.stats().last_error.rfind("bad header: content byte is 1", 0), 0u) << rx.stats().last_error;
 }
 
 }  // namespace

@@ -18,6 +18,17 @@ struct SurfaceWord {
   bool operator==(const SurfaceWord&) const = default;
 };
 
+// A node of the world's hierarchy of bounding spheres (the v3 wire's node record, docs/link_format.md "The
+// hierarchy"), as the artix path preset's walker reads it: its children are nodes first_child .. + children - 1,
+// its spheres first_sphere .. + spheres - 1. Node 0, the root, has no bound (all zero) and is never tested.
+struct HierarchyNode {
+  core::KernelSphere<std::int64_t> bound;  // raw fixed point, the preset's fractional bits
+  int first_child = 0;
+  int children = 0;
+  int first_sphere = 0;
+  int spheres = 0;
+};
+
 struct SceneMemory {
   bool valid = false;          // false until the first good world arrives
   std::uint32_t sequence = 0;  // the v2 frame's sequence number; for v1, the count of words received
@@ -27,6 +38,7 @@ struct SceneMemory {
   // Geometry in raw fixed point (the preset's fractional bits), apart from surfaces so the kernel reads it directly.
   std::vector<core::KernelSphere<std::int64_t>> geometry;
   std::vector<SurfaceWord> surfaces;
+  std::vector<HierarchyNode> hierarchy;  // empty when the world carries none
 };
 
 }  // namespace tripsitter::device

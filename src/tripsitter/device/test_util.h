@@ -10,6 +10,7 @@
 
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/fast_tracer.h>
+#include <tripsitter/host/hierarchy.h>
 #include <tripsitter/link/frame.h>
 
 namespace tripsitter::device::testing {
@@ -190,8 +191,21 @@ inline std::vector<std::uint8_t> path_frame_of(const DevicePreset& preset, std::
   return link::encode_frame(link::WireVersion::kV2, w);
 }
 
+// The scene's spheres as wire records.
+inline std::vector<link::WireSphere> wire_spheres(const SceneMemory& scene) {
+  std::vector<link::WireSphere> out;
+  for (std::size_t i = 0; i < scene.geometry.size(); ++i) {
+    const auto& g = scene.geometry[i];
+    const SurfaceWord& s = scene.surfaces.at(i);
+    out.push_back({static_cast<std::int32_t>(g.center.x), static_cast<std::int32_t>(g.center.y),
+                   static_cast<std::int32_t>(g.center.z), static_cast<std::uint32_t>(g.radius), s.material, s.albedo,
+                   s.fuzz, s.ior});
+  }
+  return out;
+}
+
 // The frame (v2 unless `wire` says otherwise; v3 in host session `session`) that puts exactly `scene` (raw geometry
-// and surface words, one surface per sphere) into scene memory.
+// and surface words, one surface per sphere, and its hierarchy: v3 only) into scene memory.
 inline std::vector<std::uint8_t> frame_of_scene(const DevicePreset& preset, std::uint32_t sequence,
                                                 const SceneMemory& scene,
                                                 link::WireVersion wire = link::WireVersion::kV2,
@@ -200,14 +214,32 @@ inline std::vector<std::uint8_t> frame_of_scene(const DevicePreset& preset, std:
   w.session = session;
   w.sequence = sequence;
   w.frac_bits = static_cast<std::uint8_t>(preset.frac_bits());
-  for (std::size_t i = 0; i < scene.geometry.size(); ++i) {
-    const auto& g = scene.geometry[i];
-    const SurfaceWord& s = scene.surfaces.at(i);
-    w.spheres.push_back({static_cast<std::int32_t>(g.center.x), static_cast<std::int32_t>(g.center.y),
-                         static_cast<std::int32_t>(g.center.z), static_cast<std::uint32_t>(g.radius), s.material,
-                         s.albedo, s.fuzz, s.ior});
+  w.spheres = wire_spheres(scene);
+  for (const HierarchyNode& v : scene.hierarchy) {
+    w.nodes.push_back({static_cast<std::int32_t>(v.bound.center.x), static_cast<std::int32_t>(v.bound.center.y),
+                       static_cast<std::int32_t>(v.bound.center.z), static_cast<std::uint32_t>(v.bound.radius),
+                       static_cast<std::uint16_t>(v.first_child), static_cast<std::uint8_t>(v.children),
+                       static_cast<std::uint8_t>(v.spheres), static_cast<std::uint32_t>(v.first_sphere)});
   }
   return link::encode_frame(wire, w);
+}
+
+// The scene as the host of a preset that walks a hierarchy sends it (host/hierarchy.h): its spheres in the
+// hierarchy's order and the hierarchy's nodes (none for a world of 8 spheres or fewer).
+inline SceneMemory with_hierarchy(const DevicePreset& preset, const SceneMemory& scene) {
+  link::SceneFormats formats{preset.x, preset.y, preset.z, preset.radius, preset.max_spheres};
+  formats.hierarchy = true;
+  const host::Hierarchy h = host::build_hierarchy(wire_spheres(scene), formats);
+  if (h.nodes.empty()) return scene;
+  SceneMemory out = scene;
+  for (std::size_t i = 0; i < h.order.size(); ++i) {
+    out.geometry[i] = scene.geometry[h.order[i]];
+    out.surfaces[i] = scene.surfaces[h.order[i]];
+  }
+  for (const link::WireNode& v : h.nodes)
+    out.hierarchy.push_back({{{v.x, v.y, v.z}, v.radius}, v.first_child, v.children, static_cast<int>(v.first_sphere),
+                             v.sphere_count});
+  return out;
 }
 
 // A random surface of any material: albedos anywhere in 0..255 (often 255, the exact 1), metals with and

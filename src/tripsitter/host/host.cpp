@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <tripsitter/core/albedo.h>
+#include <tripsitter/host/hierarchy.h>
 
 namespace tripsitter::host {
 namespace {
@@ -90,6 +91,8 @@ const ReadyWorld& Host::update() {
     world.frac_bits = static_cast<std::uint8_t>(formats_.x.frac_bits);
     world.spheres.reserve(view.size());
     for (const auto& v : view) world.spheres.push_back(to_wire(v, formats_, next.saturations));
+    if (formats_.hierarchy && wire_ == link::WireVersion::kV3)
+      attach_hierarchy(world, build_hierarchy(world.spheres, formats_));
     next.bytes = link::encode_frame(wire_, world);
   }
   total_saturations_ += next.saturations;

@@ -14,26 +14,28 @@
 #include <utility>
 
 #include <tripsitter/core/crc32.h>
+#include <tripsitter/core/fixed.h>
 
 namespace tripsitter::link {
 namespace {
 
 // Where a wire's header keeps its fields. Both headers begin with magic (0..3), version (4), frac_bits (5)
-// and two reserved bytes (6, 7).
+// and two bytes (6, 7): reserved on v2; on v3 the content (6) and a reserved byte (7).
 struct Layout {
   std::array<std::uint8_t, 4> magic;
   std::uint8_t version;
   std::size_t header_bytes;
+  std::optional<std::size_t> content_at;
   std::optional<std::size_t> session_at;
   std::size_t sequence_at, count_at, length_at;
   std::optional<std::size_t> header_crc_at;  // the CRC-32 of every header byte before it
 };
 constexpr std::size_t kVersionAt = 4;
 constexpr std::size_t kFracBitsAt = 5;
-constexpr std::size_t kReservedAt = 6;
+constexpr std::size_t kContentAt = 6;
 constexpr std::size_t kReservedEnd = 8;
-const Layout kV2Layout{kV2Magic, kV2Version, kV2HeaderBytes, std::nullopt, 8, 12, 16, std::nullopt};
-const Layout kV3Layout{kV3Magic, kV3Version, kV3HeaderBytes, 8, 12, 16, 20, 24};
+const Layout kV2Layout{kV2Magic, kV2Version, kV2HeaderBytes, std::nullopt, std::nullopt, 8, 12, 16, std::nullopt};
+const Layout kV3Layout{kV3Magic, kV3Version, kV3HeaderBytes, kContentAt, 8, 12, 16, 20, 24};
 
 const Layout& layout_of(WireVersion wire) {
   if (wire == WireVersion::kV1) throw std::invalid_argument("the v1 wire has no frames");
@@ -50,6 +52,17 @@ constexpr std::size_t kSphereAlbedoAt = 17;
 constexpr std::size_t kSphereFuzzAt = 20;
 constexpr std::size_t kSphereIorAt = 22;
 static_assert(kSphereIorAt + 2 == kSphereBytes);
+
+// Offsets inside one node record.
+constexpr std::size_t kNodeXAt = 0;
+constexpr std::size_t kNodeYAt = 4;
+constexpr std::size_t kNodeZAt = 8;
+constexpr std::size_t kNodeRadiusAt = 12;
+constexpr std::size_t kNodeFirstChildAt = 16;
+constexpr std::size_t kNodeChildrenAt = 18;
+constexpr std::size_t kNodeSphereCountAt = 19;
+constexpr std::size_t kNodeFirstSphereAt = 20;
+static_assert(kNodeFirstSphereAt + 4 == kNodeBytes);
 
 // The stream decoder takes input in slices of this size, so its buffer never holds more than one frame
 // and one slice.
@@ -94,6 +107,7 @@ struct FrameHeader {
   std::uint32_t sequence = 0;
   std::uint8_t frac_bits = 0;
   std::uint32_t count = 0;
+  std::uint32_t nodes = 0;      // v3 content 1: (length - 24 count) / 24; else 0
   std::uint32_t length = 0;
   std::size_t header_bytes = 0;
   std::size_t frame_bytes = 0;  // header + payload + CRC
@@ -108,7 +122,8 @@ struct HeaderCheck {
   std::optional<FrameFailure> failure;
 };
 
-HeaderCheck inspect_header(const Layout& layout, std::span<const std::uint8_t> bytes, std::uint32_t max_spheres) {
+HeaderCheck inspect_header(const Layout& layout, std::span<const std::uint8_t> bytes, std::uint32_t max_spheres,
+                           bool hierarchy) {
   const std::size_t n = std::min(bytes.size(), layout.header_bytes);
   const std::string magic_text(layout.magic.begin(), layout.magic.end());
   for (std::size_t i = 0; i < std::min(n, layout.magic.size()); ++i) {
@@ -131,7 +146,17 @@ HeaderCheck inspect_header(const Layout& layout, std::span<const std::uint8_t> b
                                   "frac_bits is " + std::to_string(bytes[kFracBitsAt]) + " but at most " +
                                       std::to_string(kMaxFracBits) + " fractional bits are allowed")};
   }
-  for (std::size_t at = kReservedAt; at < kReservedEnd; ++at) {
+  if (layout.content_at && n > *layout.content_at && bytes[*layout.content_at] > kContentHierarchy) {
+    return {std::nullopt, failure(FrameError::kBadHeader, *layout.content_at,
+                                  "content byte is " + std::to_string(bytes[*layout.content_at]) +
+                                      " but 0 (spheres) and 1 (spheres and a hierarchy) are the known contents")};
+  }
+  if (layout.content_at && n > *layout.content_at && bytes[*layout.content_at] == kContentHierarchy && !hierarchy) {
+    return {std::nullopt, failure(FrameError::kBadHeader, *layout.content_at,
+                                  "content byte is 1 (spheres and a hierarchy) but this receiver takes spheres only "
+                                  "(content 0)")};
+  }
+  for (std::size_t at = layout.content_at ? *layout.content_at + 1 : kFracBitsAt + 1; at < kReservedEnd; ++at) {
     if (n <= at) return {};
     if (bytes[at] != 0) {
       return {std::nullopt, failure(FrameError::kBadHeader, at,
@@ -160,7 +185,20 @@ HeaderCheck inspect_header(const Layout& layout, std::span<const std::uint8_t> b
   if (n < layout.length_at + 4) return {};
   const std::uint32_t length = read_u32(bytes, layout.length_at);
   const std::uint64_t expected = std::uint64_t{count} * kSphereBytes;
-  if (length != expected) {
+  std::uint32_t nodes = 0;
+  if (layout.content_at && bytes[*layout.content_at] == kContentHierarchy) {
+    // The nodes follow the spheres: at least the root, at most as many as the scene memory holds spheres.
+    const std::uint64_t limit = std::min<std::uint64_t>(kMaxNodes, std::max<std::uint32_t>(max_spheres, 1));
+    const std::uint64_t rest = length >= expected ? length - expected : 0;
+    if (length < expected + kNodeBytes || rest % kNodeBytes != 0 || rest / kNodeBytes > limit) {
+      return {std::nullopt, failure(FrameError::kBadLength, layout.length_at,
+                                    "payload length is " + bytes_text(length) + " but a count of " +
+                                        count_text(count, "sphere") + " and a hierarchy call for " +
+                                        std::to_string(expected) + " plus 24 for each of 1 to " +
+                                        std::to_string(limit) + " nodes")};
+    }
+    nodes = static_cast<std::uint32_t>(rest / kNodeBytes);
+  } else if (length != expected) {
     return {std::nullopt, failure(FrameError::kBadLength, layout.length_at,
                                   "payload length is " + bytes_text(length) + " but a count of " +
                                       count_text(count, "sphere") + " calls for " + std::to_string(expected))};
@@ -171,6 +209,7 @@ HeaderCheck inspect_header(const Layout& layout, std::span<const std::uint8_t> b
   header.sequence = read_u32(bytes, layout.sequence_at);
   header.frac_bits = bytes[kFracBitsAt];
   header.count = count;
+  header.nodes = nodes;
   header.length = length;
   header.header_bytes = layout.header_bytes;
   header.frame_bytes = layout.header_bytes + std::size_t{length} + kFrameTrailerBytes;
@@ -192,10 +231,13 @@ core::Result<World, FrameFailure> decode_body(std::span<const std::uint8_t> fram
   world.sequence = header.sequence;
   world.frac_bits = header.frac_bits;
   world.spheres.reserve(header.count);
-  const auto bad_sphere = [&header](std::size_t at, std::string detail) {
-    FrameFailure f = failure(FrameError::kBadSphere, at, std::move(detail));
+  const auto intact = [&header](FrameError error, std::size_t at, std::string detail) {
+    FrameFailure f = failure(error, at, std::move(detail));
     f.intact = FrameId{header.session, header.sequence};
     return f;
+  };
+  const auto bad_sphere = [&](std::size_t at, std::string detail) {
+    return intact(FrameError::kBadSphere, at, std::move(detail));
   };
   for (std::uint32_t i = 0; i < header.count; ++i) {
     const std::size_t at = header.header_bytes + std::size_t{i} * kSphereBytes;
@@ -222,7 +264,28 @@ core::Result<World, FrameFailure> decode_body(std::span<const std::uint8_t> fram
     }
     world.spheres.push_back(s);
   }
+  const std::size_t nodes_at = header.header_bytes + std::size_t{header.count} * kSphereBytes;
+  world.nodes.reserve(header.nodes);
+  for (std::uint32_t i = 0; i < header.nodes; ++i) {
+    const std::size_t at = nodes_at + std::size_t{i} * kNodeBytes;
+    WireNode v;
+    v.x = static_cast<std::int32_t>(read_u32(frame, at + kNodeXAt));
+    v.y = static_cast<std::int32_t>(read_u32(frame, at + kNodeYAt));
+    v.z = static_cast<std::int32_t>(read_u32(frame, at + kNodeZAt));
+    v.radius = read_u32(frame, at + kNodeRadiusAt);
+    v.first_child = read_u16(frame, at + kNodeFirstChildAt);
+    v.children = frame[at + kNodeChildrenAt];
+    v.sphere_count = frame[at + kNodeSphereCountAt];
+    v.first_sphere = read_u32(frame, at + kNodeFirstSphereAt);
+    world.nodes.push_back(v);
+  }
+  if (const std::optional<HierarchyProblem> problem = hierarchy_error(world))
+    return intact(FrameError::kBadHierarchy, nodes_at + problem->offset, problem->detail);
   return world;
+}
+
+std::string range_text(std::uint64_t first, std::uint64_t n) {
+  return n == 1 ? std::to_string(first) : std::to_string(first) + ".." + std::to_string(first + n - 1);
 }
 
 void set_u32(std::span<std::uint8_t> bytes, std::size_t at, std::uint32_t value) {
@@ -273,6 +336,7 @@ const char* to_string(FrameError error) {
     case FrameError::kTruncated: return "truncated";
     case FrameError::kBadCrc: return "bad CRC";
     case FrameError::kBadSphere: return "bad sphere";
+    case FrameError::kBadHierarchy: return "bad hierarchy";
     case FrameError::kTrailingBytes: return "trailing bytes";
   }
   return "unknown error";
@@ -280,20 +344,117 @@ const char* to_string(FrameError error) {
 
 std::size_t frame_header_bytes(WireVersion wire) { return layout_of(wire).header_bytes; }
 
-std::size_t frame_bytes(WireVersion wire, std::size_t spheres) {
-  return frame_header_bytes(wire) + spheres * kSphereBytes + kFrameTrailerBytes;
+std::size_t frame_bytes(WireVersion wire, std::size_t spheres, std::size_t nodes) {
+  return frame_header_bytes(wire) + spheres * kSphereBytes + nodes * kNodeBytes + kFrameTrailerBytes;
+}
+
+bool encloses(const Ball& outer, const Ball& inner) {
+  if (outer.radius < inner.radius) return false;
+  const auto sq = [](std::int64_t v) { return static_cast<core::UInt128>(static_cast<core::Int128>(v) * v); };
+  return sq(inner.x - outer.x) + sq(inner.y - outer.y) + sq(inner.z - outer.z) <= sq(outer.radius - inner.radius);
+}
+
+std::optional<HierarchyProblem> hierarchy_error(const World& world) {
+  const std::vector<WireNode>& nodes = world.nodes;
+  const std::size_t n = nodes.size();
+  if (n == 0) return std::nullopt;
+  const std::size_t count = world.spheres.size();
+  const auto problem = [](std::size_t node, std::size_t field, std::string detail) {
+    return HierarchyProblem{node * kNodeBytes + field, std::move(detail)};
+  };
+  const auto name = [](std::size_t i) { return "node " + std::to_string(i); };
+  // Each record on its own: its bound, and ranges inside the world.
+  for (std::size_t i = 0; i < n; ++i) {
+    const WireNode& v = nodes[i];
+    if (i == 0 && (v.x != 0 || v.y != 0 || v.z != 0 || v.radius != 0)) {
+      const std::size_t field = v.x != 0 ? kNodeXAt : v.y != 0 ? kNodeYAt : v.z != 0 ? kNodeZAt : kNodeRadiusAt;
+      return problem(0, field, "the root (node 0) carries no bound, but its x, y, z and radius are not all 0");
+    }
+    if (i > 0 && v.radius == 0) return problem(i, kNodeRadiusAt, name(i) + " has radius 0; a bound must be above zero");
+    if (v.children == 0 && v.first_child != 0)
+      return problem(i, kNodeFirstChildAt, name(i) + " has no children but first_child " + std::to_string(v.first_child));
+    if (v.sphere_count == 0 && v.first_sphere != 0)
+      return problem(i, kNodeFirstSphereAt, name(i) + " has no spheres but first_sphere " + std::to_string(v.first_sphere));
+    if (i > 0 && v.children == 0 && v.sphere_count == 0)
+      return problem(i, kNodeChildrenAt, name(i) + " holds neither nodes nor spheres");
+    if (std::size_t{v.first_child} + v.children > n) {
+      return problem(i, kNodeFirstChildAt, name(i) + " names nodes " + range_text(v.first_child, v.children) +
+                                               " as its children but the world has " + count_text(n, "node"));
+    }
+    if (std::uint64_t{v.first_sphere} + v.sphere_count > count) {
+      return problem(i, kNodeFirstSphereAt, name(i) + " names spheres " + range_text(v.first_sphere, v.sphere_count) +
+                                                " but the world has " + count_text(count, "sphere"));
+    }
+  }
+  // A tree from the root: each node reached once, at most kMaxHierarchyDepth levels down.
+  std::vector<int> depth(n, -1);
+  std::vector<std::size_t> order{0};
+  depth[0] = 0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const std::size_t i = order[k];
+    for (std::size_t c = nodes[i].first_child; c < std::size_t{nodes[i].first_child} + nodes[i].children; ++c) {
+      if (depth[c] >= 0) {
+        return problem(i, kNodeFirstChildAt, name(i) + " names " + name(c) +
+                                                 " as a child, which is reached from the root already: a cycle, or a "
+                                                 "node with two parents");
+      }
+      depth[c] = depth[i] + 1;
+      if (depth[c] > kMaxHierarchyDepth) {
+        return problem(i, kNodeFirstChildAt, name(c) + " lies " + std::to_string(depth[c]) +
+                                                 " levels below the root; at most " +
+                                                 std::to_string(kMaxHierarchyDepth));
+      }
+      order.push_back(c);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (depth[i] < 0) return problem(i, 0, name(i) + " is not reached from the root");
+  // Every sphere in exactly one node.
+  std::vector<std::int64_t> owner(count, -1);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t s = nodes[i].first_sphere; s < std::size_t{nodes[i].first_sphere} + nodes[i].sphere_count; ++s) {
+      if (owner[s] >= 0) {
+        return problem(i, kNodeFirstSphereAt, "sphere " + std::to_string(s) + " is in " +
+                                                  name(static_cast<std::size_t>(owner[s])) + " and in " + name(i));
+      }
+      owner[s] = static_cast<std::int64_t>(i);
+    }
+  }
+  for (std::size_t s = 0; s < count; ++s)
+    if (owner[s] < 0) return problem(0, 0, "sphere " + std::to_string(s) + " is in no node");
+  // Every bound encloses its spheres and its children's bounds (the root has none).
+  for (std::size_t i = 1; i < n; ++i) {
+    const WireNode& v = nodes[i];
+    const Ball bound{v.x, v.y, v.z, v.radius};
+    const auto inside = [&](std::int64_t x, std::int64_t y, std::int64_t z, std::int64_t r) {
+      return encloses(bound, {x, y, z, r});
+    };
+    for (std::size_t s = v.first_sphere; s < std::size_t{v.first_sphere} + v.sphere_count; ++s) {
+      const WireSphere& b = world.spheres[s];
+      if (!inside(b.x, b.y, b.z, b.radius))
+        return problem(i, kNodeRadiusAt, "the bound of " + name(i) + " does not enclose sphere " + std::to_string(s));
+    }
+    for (std::size_t c = v.first_child; c < std::size_t{v.first_child} + v.children; ++c) {
+      const WireNode& b = nodes[c];
+      if (!inside(b.x, b.y, b.z, b.radius))
+        return problem(i, kNodeRadiusAt, "the bound of " + name(i) + " does not enclose the bound of " + name(c));
+    }
+  }
+  return std::nullopt;
 }
 
 std::vector<std::uint8_t> encode_frame(WireVersion wire, const World& world) {
   const Layout& layout = layout_of(wire);
+  if (!world.nodes.empty() && !layout.content_at)
+    throw std::invalid_argument("encode_frame: only the v3 wire carries a hierarchy");
   const auto count = static_cast<std::uint32_t>(world.spheres.size());
-  const auto length = static_cast<std::uint32_t>(world.spheres.size() * kSphereBytes);
+  const auto length = static_cast<std::uint32_t>(world.spheres.size() * kSphereBytes + world.nodes.size() * kNodeBytes);
   std::vector<std::uint8_t> out;
-  out.reserve(frame_bytes(wire, world.spheres.size()));
+  out.reserve(frame_bytes(wire, world.spheres.size(), world.nodes.size()));
   out.insert(out.end(), layout.magic.begin(), layout.magic.end());
   out.push_back(layout.version);
   out.push_back(world.frac_bits);
-  out.push_back(0);
+  out.push_back(world.nodes.empty() ? kContentSpheres : kContentHierarchy);
   out.push_back(0);
   if (layout.session_at) put_u32(world.session, out);
   put_u32(world.sequence, out);
@@ -309,6 +470,16 @@ std::vector<std::uint8_t> encode_frame(WireVersion wire, const World& world) {
     out.insert(out.end(), s.albedo.begin(), s.albedo.end());
     put_u16(s.fuzz, out);
     put_u16(s.ior, out);
+  }
+  for (const WireNode& v : world.nodes) {
+    put_u32(static_cast<std::uint32_t>(v.x), out);
+    put_u32(static_cast<std::uint32_t>(v.y), out);
+    put_u32(static_cast<std::uint32_t>(v.z), out);
+    put_u32(v.radius, out);
+    put_u16(v.first_child, out);
+    out.push_back(v.children);
+    out.push_back(v.sphere_count);
+    put_u32(v.first_sphere, out);
   }
   put_u32(core::crc32(out), out);
   return out;
@@ -326,9 +497,9 @@ void restamp_frame(WireVersion wire, std::span<std::uint8_t> frame, std::uint32_
 }
 
 core::Result<World, FrameFailure> decode_frame(WireVersion wire, std::span<const std::uint8_t> bytes,
-                                               std::uint32_t max_spheres) {
+                                               std::uint32_t max_spheres, bool hierarchy) {
   const Layout& layout = layout_of(wire);
-  HeaderCheck check = inspect_header(layout, bytes, max_spheres);
+  HeaderCheck check = inspect_header(layout, bytes, max_spheres, hierarchy);
   if (check.failure) return std::move(*check.failure);
   if (!check.header) {
     return failure(FrameError::kTruncated, bytes.size(),
@@ -362,14 +533,15 @@ core::Result<World, FrameFailure> decode_frame(WireVersion wire, std::span<const
 //     (or the end of the stream) is one kBadMagic report;
 //   - a header error or a bad CRC: the first byte of the frame is dropped and reported with the error,
 //     and a hunt begins at the next byte, so a frame hidden inside the damaged one is still found;
-//   - a bad sphere under a good CRC: the frame arrived as sent, so all of it is dropped with the report
+//   - a bad sphere or hierarchy under a good CRC: the frame arrived as sent, so all of it is dropped with the report
 //     and the next frame is expected right after it;
 //   - v3: an intact header inside the frame's bytes (find_embedded_header): the frame up to it is dropped
 //     as truncated and the frame that header begins is expected there.
 // The callbacks run in the middle of this work and must not call back into the decoder.
 
-FrameStreamDecoder::FrameStreamDecoder(WireVersion wire, std::uint32_t max_spheres, Callbacks callbacks)
-    : wire_(wire), max_spheres_(max_spheres), callbacks_(std::move(callbacks)) {
+FrameStreamDecoder::FrameStreamDecoder(WireVersion wire, std::uint32_t max_spheres, Callbacks callbacks,
+                                       bool hierarchy)
+    : wire_(wire), max_spheres_(max_spheres), hierarchy_(hierarchy), callbacks_(std::move(callbacks)) {
   layout_of(wire);  // throws on v1
 }
 
@@ -427,7 +599,7 @@ void FrameStreamDecoder::process() {
 bool FrameStreamDecoder::try_frame() {
   const std::span<const std::uint8_t> rest = std::span<const std::uint8_t>(buffer_).subspan(read_);
   if (frame_bytes_ == 0) {
-    HeaderCheck check = inspect_header(layout_of(wire_), rest, max_spheres_);
+    HeaderCheck check = inspect_header(layout_of(wire_), rest, max_spheres_, hierarchy_);
     if (check.failure) {
       FrameFailure& f = *check.failure;
       if (f.error == FrameError::kBadMagic) {
@@ -460,7 +632,7 @@ bool FrameStreamDecoder::try_frame() {
 
   const std::span<const std::uint8_t> frame = rest.first(frame_bytes_);
   const std::size_t size = std::exchange(frame_bytes_, 0);
-  const HeaderCheck check = inspect_header(layout_of(wire_), frame, max_spheres_);
+  const HeaderCheck check = inspect_header(layout_of(wire_), frame, max_spheres_, hierarchy_);
   core::Result<World, FrameFailure> result = decode_body(frame, *check.header);
   if (result.ok()) {
     read_ += size;
@@ -470,7 +642,7 @@ bool FrameStreamDecoder::try_frame() {
   FrameFailure f = result.error();
   const std::size_t frame_at = stream_offset(read_);
   f.offset += frame_at;
-  if (f.error == FrameError::kBadSphere) {
+  if (f.intact) {
     read_ += size;
     report(f, size);
     return true;

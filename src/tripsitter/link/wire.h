@@ -36,6 +36,9 @@ struct SceneFormats {
   // The indices of refraction of dielectrics the device takes, in the v2 wire's u4.12 (the path preset's are
   // narrower than the wire's).
   std::uint16_t ior_min = 1, ior_max = 65535;
+  // The device walks a hierarchy of bounding spheres for rays that are not the camera's (the artix path preset):
+  // the host sends one with each v3 world (host/hierarchy.h).
+  bool hierarchy = false;
 };
 
 }  // namespace tripsitter::link
