@@ -1,6 +1,7 @@
-// The path preset's device against the float path tracer of the device's own rays (render::render_device_view):
-// the same world gives the same picture in distribution, material by material (fixed seeds: nothing flakes); and
-// the device's white furnace, exactly.
+// The path presets' devices (`path`, and `artix-path` on the sphere units, its bounced rays walking the hierarchy
+// the host sends) against the float path tracer of the device's own rays (render::render_device_view): the same
+// world gives the same picture in distribution, material by material (fixed seeds: nothing flakes); and the
+// device's white furnace, exactly.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -17,6 +18,8 @@
 #include <tripsitter/core/screen.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/test_util.h>
+#include <tripsitter/host/hierarchy.h>
+#include <tripsitter/link/frame.h>
 #include <tripsitter/render/device_view.h>
 #include <tripsitter/render/path_tracer.h>
 #include <tripsitter/render/rng.h>
@@ -41,23 +44,35 @@ struct Estimate {
   std::vector<Channels> var_of_mean = std::vector<Channels>(kPixels);
 };
 
-device::DevicePreset agreement_preset(int spp, int depth) {
-  device::DevicePreset p = device::path_preset();
+device::DevicePreset agreement_preset(const device::DevicePreset& base, int spp, int depth) {
+  device::DevicePreset p = base;
   p.path->spp = spp;
   p.path->depth = depth;
-  p.workers = 640;  // a pixel a worker: none late (the worker count changes nothing else; path_test.cpp)
+  p.workers = 640;  // a pixel a worker (a unit a column): none late (the count changes nothing else; path_test.cpp)
   return p;
+}
+
+// The world's frame as the host sends it to the preset: v2 for `path`; v3 with the hierarchy for `artix-path`.
+std::vector<std::uint8_t> world_frame(const device::DevicePreset& p, const std::vector<PathBall>& balls) {
+  const std::vector<std::uint8_t> v2 = device::testing::path_frame_of(p, 1, balls);
+  if (!p.walks_hierarchy()) return v2;
+  link::World w = link::decode_frame(link::WireVersion::kV2, v2, p.max_spheres).value();
+  w.session = 1;
+  link::SceneFormats formats{p.x, p.y, p.z, p.radius, p.max_spheres};
+  formats.hierarchy = true;
+  host::attach_hierarchy(w, host::build_hierarchy(w.spheres, formats));
+  return link::encode_frame(link::WireVersion::kV3, w);
 }
 
 // The device's picture: `frames` frames of `spp` samples, accumulated in frame memory. The variance of each
 // pixel's mean comes from its frames: each frame's samples (the difference of the entry's sums) are one batch
 // mean, and frames are independent (their samples draw from streams of their own), so var(mean) = var(batch) /
 // frames. Also returns the world as scene memory holds it.
-Estimate run_device(const std::vector<PathBall>& balls, int spp, int frames, int depth, device::SceneMemory& scene,
-                    device::PathCounters* counters = nullptr) {
-  const device::DevicePreset p = agreement_preset(spp, depth);
-  device::Device dev(p, link::WireVersion::kV2, 0);
-  dev.transfer(device::testing::path_frame_of(p, 1, balls));
+Estimate run_device(const device::DevicePreset& base, const std::vector<PathBall>& balls, int spp, int frames,
+                    int depth, device::SceneMemory& scene, device::PathCounters* counters = nullptr) {
+  const device::DevicePreset p = agreement_preset(base, spp, depth);
+  device::Device dev(p, p.walks_hierarchy() ? link::WireVersion::kV3 : link::WireVersion::kV2, 0);
+  dev.transfer(world_frame(p, balls));
   std::vector<Channels> sum(kPixels), sum2(kPixels);
   std::vector<device::AccumEntry> previous(kPixels);
   for (int f = 0; f < frames; ++f) {
@@ -100,8 +115,8 @@ Estimate run_device(const std::vector<PathBall>& balls, int spp, int frames, int
 // albedo byte / 255 (the device multiplies by it within 2^-16, path_kernel.h), fuzz / 65535, ior / 4096. (An albedo
 // off by 1/256 of itself, as the device's once was, (a + a/128) / 256, fails this test: mean square z-scores of 3
 // to 7, blocks off by 0.002.)
-std::vector<scene::Sphere> float_world(const device::SceneMemory& memory) {
-  const double unit = std::ldexp(1.0, -device::path_preset().frac_bits());
+std::vector<scene::Sphere> float_world(const device::SceneMemory& memory, int frac_bits) {
+  const double unit = std::ldexp(1.0, -frac_bits);
   std::vector<scene::Sphere> out;
   for (std::size_t i = 0; i < memory.geometry.size(); ++i) {
     const auto& g = memory.geometry[i];
@@ -238,13 +253,17 @@ Agreement compare_blocks(const Estimate& dev, const Estimate& flt, int block, co
 // Device and float at the same depth and sample count, compared in 32 x 32 blocks. The device's samples come 2 a
 // frame: with 640 workers each pixel then has a whole line's time, so none is late even at depth 6 (and the frames
 // are batches enough for a good estimate of the device's variance).
-void expect_agreement(const std::string& name, const std::vector<PathBall>& balls, int depth) {
+void expect_agreement(const std::string& name, const std::vector<PathBall>& balls, int depth,
+                      const device::DevicePreset& base = device::path_preset()) {
   const int frames = kSanitized ? 4 : 16, spp = 2;
   device::SceneMemory memory;
   device::PathCounters counters;
-  const Estimate dev = run_device(balls, spp, frames, depth, memory, &counters);
+  const Estimate dev = run_device(base, balls, spp, frames, depth, memory, &counters);
   if (::testing::Test::HasFailure()) return;
-  const Estimate flt = run_float(float_world(memory), spp * frames, depth, 1);
+  if (base.walks_hierarchy() && balls.size() > host::kFlatWorldSpheres) {
+    EXPECT_FALSE(memory.hierarchy.empty()) << name << ": the host sent no hierarchy";
+  }
+  const Estimate flt = run_float(float_world(memory, base.frac_bits()), spp * frames, depth, 1);
   const Agreement a = compare_blocks(dev, flt, 32, name);
   // The figures, for whoever tunes the device (the z-scores of noisy blocks should look standard normal).
   std::printf("%s: worst %s (excess %.5f); max |z| %.2f, mean z^2 %.2f; whole image diff %.5f %.5f %.5f\n",
@@ -292,10 +311,41 @@ std::vector<PathBall> mixed_world() {
           {{-300, -100, 1200, 120}, kMetal, {255, 255, 255}, 0}};
 }
 
+// A floor and 24 balls of every material in rows on it: more than 8 spheres, so artix-path's bounced rays walk the
+// hierarchy the host sends (the floor at its root, the balls in leaves).
+std::vector<PathBall> crowd_world() {
+  std::vector<PathBall> out = {{{0, 10300, 1500, 10000}, kLambertian, {150, 150, 150}}};
+  for (int i = 0; i < 24; ++i) {
+    const int row = i / 6, col = i % 6;
+    const double r = 40 + 10 * (i % 3);
+    PathBall b{{-300.0 + 120 * col, 300 - r, 700.0 + 150 * row, r}, kLambertian,
+               {static_cast<std::uint8_t>(60 + 8 * i), 200, static_cast<std::uint8_t>(250 - 8 * i)}};
+    if (i % 3 == 1) b.material = kMetal, b.fuzz = static_cast<std::uint16_t>(2000 * i);
+    if (i % 3 == 2) b.material = kDielectric, b.albedo = {255, 255, 255}, b.ior = static_cast<std::uint16_t>(5000 + 200 * i);
+    out.push_back(b);
+  }
+  return out;
+}
+
 TEST(PathAgreement, LambertianWorld) { expect_agreement("lambertian", lambertian_world(), 4); }
 TEST(PathAgreement, MetalWorld) { expect_agreement("metal", metal_world(), 4); }
 TEST(PathAgreement, DielectricWorld) { expect_agreement("dielectric", dielectric_world(), 6); }
 TEST(PathAgreement, MixedWorld) { expect_agreement("mixed", mixed_world(), 4); }
+TEST(PathAgreement, ArtixPathLambertianWorld) {
+  expect_agreement("artix-path lambertian", lambertian_world(), 4, device::artix_path_preset());
+}
+TEST(PathAgreement, ArtixPathMetalWorld) {
+  expect_agreement("artix-path metal", metal_world(), 4, device::artix_path_preset());
+}
+TEST(PathAgreement, ArtixPathDielectricWorld) {
+  expect_agreement("artix-path dielectric", dielectric_world(), 6, device::artix_path_preset());
+}
+TEST(PathAgreement, ArtixPathMixedWorld) {
+  expect_agreement("artix-path mixed", mixed_world(), 4, device::artix_path_preset());
+}
+TEST(PathAgreement, ArtixPathCrowdWalkingTheHierarchy) {
+  expect_agreement("artix-path crowd", crowd_world(), 4, device::artix_path_preset());
+}
 
 // The white furnace, in the device's fixed point. An albedo byte of 255 is exactly 1 on the device (path_kernel.h),
 // and a throughput times it, rounded, is exactly the throughput: a path off such spheres carries 1.0 until it
@@ -316,7 +366,7 @@ TEST(PathFurnace, WhiteSpheresReturnTheSkyExactly) {
                                     {{320, 170, 690, 125}, kLambertian, {255, 255, 255}},
                                     {{0, -240, 760, 100}, kLambertian, {255, 255, 255}}};
   for (const int depth : {3, 16}) {
-    const device::DevicePreset p = agreement_preset(2, depth);
+    const device::DevicePreset p = agreement_preset(device::path_preset(), 2, depth);
     device::Device dev(p, link::WireVersion::kV2, 0);
     dev.transfer(device::testing::path_frame_of(p, 1, balls));
     std::uint64_t samples = 0, cut = 0, sky = 0, bounces = 0;
@@ -356,8 +406,8 @@ TEST(PathFurnace, WhiteSpheresReturnTheSkyExactly) {
 // The float side above is render_device_view, sample for sample.
 TEST(PathAgreement, DeviceViewIsThisLoop) {
   device::SceneMemory memory;
-  run_device(mixed_world(), 1, 2, 1, memory);
-  const std::vector<scene::Sphere> view = float_world(memory);
+  run_device(device::path_preset(), mixed_world(), 1, 2, 1, memory);
+  const std::vector<scene::Sphere> view = float_world(memory, device::path_preset().frac_bits());
   core::ImageRgbF raw;
   run_float(view, 2, 4, 7, &raw);
   render::DeviceViewSettings settings;
