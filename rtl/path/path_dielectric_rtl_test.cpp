@@ -16,6 +16,8 @@
 
 #include "rtl_ports.h"  // first: it includes verilated.h with its warnings silenced
 
+#include "path_rtl_util.h"
+
 #include <Vts_path_dielectric.h>
 #include <Vts_path_dielectric_planted.h>
 
@@ -26,6 +28,7 @@ namespace tripsitter::rtl {
 namespace {
 
 using device::approx::Unit3;
+using path::random_unit;
 
 constexpr int kLatency = 6 + 16 + 1;  // ts_path_dielectric's
 
@@ -60,13 +63,6 @@ Result model(const Bounce& b) {
   r.drew = draws != 0;
   if (!r.straight) r.next = s.next;
   return r;
-}
-
-Unit3 random_unit(std::mt19937_64& rng) {
-  std::normal_distribution<double> g;
-  double x = g(rng), y = g(rng), z = g(rng);
-  const double len = std::sqrt(x * x + y * y + z * z) + 1e-12;
-  return {std::llround(x / len * 16384), std::llround(y / len * 16384), std::llround(z / len * 16384)};
 }
 
 std::vector<Bounce> random_bounces(std::size_t count, std::mt19937_64& rng) {
@@ -152,9 +148,7 @@ class DielectricRtl {
       got.refracted = top_->out_refracted;
       got.drew = top_->out_drew;
       if (!got.straight) {
-        const UInt128 next = get(top_->out_next);
-        got.next = {static_cast<std::int64_t>(sign_extend(next, 24)), static_cast<std::int64_t>(sign_extend(next >> 24, 24)),
-                    static_cast<std::int64_t>(sign_extend(next >> 48, 24))};
+        got.next = path::unpack(get(top_->out_next));
       }
       if (!(got == s.want)) {
         ++bad;
@@ -177,15 +171,8 @@ class DielectricRtl {
 
  private:
   void put_bounce(const Bounce& b, std::uint16_t tag) {
-    // Three 17-bit fields, x in the low bits.
-    const auto pack = [](const Unit3& v) {
-      const auto field = [](std::int64_t c, int k) {
-        return static_cast<UInt128>(static_cast<std::uint64_t>(c) & static_cast<std::uint64_t>(mask(17))) << (17 * k);
-      };
-      return field(v.x, 0) | field(v.y, 1) | field(v.z, 2);
-    };
-    put(top_->in_dir, pack(b.in));
-    put(top_->in_normal, pack(b.n));
+    put(top_->in_dir, path::pack(b.in));
+    put(top_->in_normal, path::pack(b.n));
     top_->in_inside = b.inside;
     top_->in_eta_enter = static_cast<IData>(b.surface.eta_enter);
     top_->in_eta_leave = static_cast<IData>(b.surface.eta_leave);
