@@ -16,8 +16,8 @@ for tool in verilator yosys; do
   command -v "$tool" >/dev/null || { echo "$tool is missing: apt-get install verilator yosys" >&2; exit 2; }
 done
 
-# Packages first (blocks name ts_link_pkg::X and ts_artix_pkg::X), then every other source.
-packages=(rtl/receiver/ts_link_pkg.sv rtl/artix/ts_artix_pkg.sv)
+# Packages first (blocks name ts_link_pkg::X, ts_artix_pkg::X and ts_path_pkg::X), then every other source.
+packages=(rtl/receiver/ts_link_pkg.sv rtl/artix/ts_artix_pkg.sv rtl/path/ts_path_pkg.sv)
 mapfile -t others < <(ls rtl/*/ts_*.sv rtl/boards/*/ts_*.sv | grep -v '_pkg\.sv$' | sort)
 sources=("${packages[@]}" "${others[@]}")
 mapfile -t modules < <(grep -ohP '^module\s+\K\w+' "${others[@]}" | sort)

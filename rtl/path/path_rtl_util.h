@@ -1,14 +1,23 @@
-// What the tests of rtl/path/ share: random unit vectors as the model's 2^14 vectors, and the blocks' vector ports
-// (three signed fields, x in the low bits).
+// What the tests of rtl/path/ share: random unit vectors as the model's 2^14 vectors, the blocks' vector ports
+// (three signed fields, x in the low bits), the model's bounce, and the harness that streams a block's inputs and
+// checks its results as they come out.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
 
 #include "rtl_ports.h"
 
 #include <tripsitter/device/approx.h>
+#include <tripsitter/device/artix_path.h>
+#include <tripsitter/device/path_kernel.h>
 
 namespace tripsitter::rtl::path {
 
@@ -33,6 +42,95 @@ inline UInt128 pack(const Unit3& v, int bits = 17) {
 inline Unit3 unpack(UInt128 port, int bits = 24) {
   return {static_cast<std::int64_t>(sign_extend(port, bits)), static_cast<std::int64_t>(sign_extend(port >> bits, bits)),
           static_cast<std::int64_t>(sign_extend(port >> (2 * bits), bits))};
+}
+
+// One bounce of a path at its hit, and what scatter() makes of it.
+struct Bounce {
+  device::PathSurface surface;
+  Unit3 in, n;
+  bool inside = false;
+  std::uint32_t draw = 0;
+};
+struct Scatter {
+  int bounce = 0;  // device::Bounce: 0 scattered, 1 straight, 2 absorbed
+  bool into = false, refracted = false, drew = false;
+  Unit3 next;      // a scattered ray's direction (else 0)
+  bool operator==(const Scatter&) const = default;
+};
+static_assert(static_cast<int>(device::Bounce::kScattered) == 0 && static_cast<int>(device::Bounce::kStraight) == 1 &&
+              static_cast<int>(device::Bounce::kAbsorbed) == 2);
+
+// The model's bounce with the artix path preset's arithmetic, the draw counted.
+inline Scatter model(const Bounce& b) {
+  device::PathCounters counters;
+  int draws = 0;
+  const device::Scattered s = device::scatter(
+      device::artix::path_arith(), b.surface, b.n, b.inside, [&] { return b.in; },
+      [&] {
+        ++draws;
+        return b.draw;
+      },
+      counters);
+  Scatter r;
+  r.bounce = static_cast<int>(s.bounce);
+  r.into = s.into;
+  r.refracted = counters.refracted != 0;
+  r.drew = draws != 0;
+  if (s.bounce == device::Bounce::kScattered) r.next = s.next;
+  return r;
+}
+
+inline std::string describe(const Scatter& s) {
+  return "bounce " + std::to_string(s.bounce) + " into " + std::to_string(s.into) + " refracted " +
+         std::to_string(s.refracted) + " drew " + std::to_string(s.drew) + " (" + std::to_string(s.next.x) + ", " +
+         std::to_string(s.next.y) + ", " + std::to_string(s.next.z) + ")";
+}
+
+// Streams `items` into a Verilated block with a `clk`, `in_valid` and a 16-bit `in_tag` (the item's index), one in each
+// cycle send(index) allows, a random junk item's inputs on the ports in the other cycles; checks that each result
+// comes out `latency` cycles after its item, once, in order, with its tag; counts the results that differ from the
+// model's. put(top, item) sets the item's inputs, got(top) reads a result, want(item) is the model's; at most
+// `report` differences are reported. Returns the number that differ.
+template <class Top, class Item, class Result>
+int stream(Top& top, const std::vector<Item>& items, const std::vector<Item>& junk, int latency, std::mt19937_64& rng,
+           const std::function<bool(std::size_t)>& send, const std::function<void(Top&, const Item&)>& put,
+           const std::function<Result(Top&)>& got, const std::function<Result(const Item&)>& want, int report = 3) {
+  struct Sent {
+    std::int64_t cycle;
+    Result want;
+    std::uint16_t tag;
+  };
+  std::deque<Sent> in_flight;
+  std::size_t next = 0;
+  std::int64_t cycle = 0;
+  int bad = 0;
+  const std::int64_t limit = 10 * static_cast<std::int64_t>(items.size()) + 10 * latency + 100;
+  while ((next < items.size() || !in_flight.empty()) && cycle < limit) {
+    const bool now = next < items.size() && send(next);
+    put(top, now ? items[next] : junk[rng() % junk.size()]);
+    top.in_tag = static_cast<SData>(now ? next : rng());
+    top.in_valid = now;
+    if (now) in_flight.push_back({cycle, want(items[next]), static_cast<std::uint16_t>(next)}), ++next;
+    rising_edge(top);
+    ++cycle;
+    if (!top.out_valid) continue;
+    if (in_flight.empty()) {
+      ADD_FAILURE() << "a result came out that no item went in for, at cycle " << cycle;
+      ++bad;
+      continue;
+    }
+    const Sent s = in_flight.front();
+    in_flight.pop_front();
+    EXPECT_EQ(cycle - s.cycle, latency) << "item " << s.tag;
+    EXPECT_EQ(top.out_tag, s.tag);
+    const Result r = got(top);
+    if (!(r == s.want) && ++bad <= report)
+      ADD_FAILURE() << "item " << s.tag << ": rtl " << describe(r) << "; model " << describe(s.want);
+  }
+  top.in_valid = 0;
+  EXPECT_EQ(next, items.size()) << "the stream did not finish";
+  EXPECT_TRUE(in_flight.empty()) << in_flight.size() << " results never came out";
+  return bad;
 }
 
 }  // namespace tripsitter::rtl::path

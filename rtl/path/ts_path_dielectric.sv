@@ -46,14 +46,8 @@ module ts_path_dielectric #(
 );
   localparam int SqrtW = 32;
 
-  // x >> s, rounded to nearest with ties away from zero. Each product below is taken at its own width (so that it
-  // maps to as few DSP48E1 as its operands need) and widened only to be rounded.
-  function automatic logic signed [63:0] round_shift(input logic signed [63:0] x, input int s);
-    logic signed [63:0] half;
-    half = 64'sd1 <<< (s - 1);
-    if (x >= 0) round_shift = (x + half) >>> s;
-    else round_shift = -((-x + half) >>> s);
-  endfunction
+  // Each product below is taken at its own width (so that it maps to as few DSP48E1 as its operands need) and
+  // widened only to be rounded (ts_path_pkg::round_shift).
 
   // Stage 1: the normal facing the ray, in.n_f.
   (* mem2reg *) logic signed [16:0] dir_in[3], nf_in[3];
@@ -95,7 +89,7 @@ module ts_path_dielectric #(
   logic [31:0]               draw2;
   logic [TAG_W-1:0]          tag2;
   logic signed [63:0]        d_x;
-  assign d_x = round_shift(64'(dot1), 14);
+  assign d_x = ts_path_pkg::round_shift(64'(dot1), 14);
   always_ff @(posedge clk) begin
     if (rst) v2 <= 1'b0;
     else v2 <= v1;
@@ -144,12 +138,12 @@ module ts_path_dielectric #(
     for (int k = 0; k < 3; k++) begin
       in3[k] <= in2[k];
       nf3[k] <= nf2[k];
-      t3[k] <= 18'(round_shift(64'(cos_nf[k]), 14));
-      rr3[k] <= 18'(round_shift(64'(d_nf[k]) <<< 1, 14));
+      t3[k] <= 18'(ts_path_pkg::round_shift(64'(cos_nf[k]), 14));
+      rr3[k] <= 18'(ts_path_pkg::round_shift(64'(d_nf[k]) <<< 1, 14));
     end
     sin3 <= 32'(36'sd268435456 - cos_sq);
     m3 <= m_x;
-    mm3 <= 16'(round_shift(64'(m_sq), 14));
+    mm3 <= 16'(ts_path_pkg::round_shift(64'(m_sq), 14));
     ee3 <= eta_sq;
     inside3 <= inside2;
     straight3 <= straight2;
@@ -182,7 +176,7 @@ module ts_path_dielectric #(
     tir4 <= eesin > (69'sd1 <<< 56);
 `endif
     m4 <= m3;
-    m4th4 <= 16'(round_shift(64'(m4_sq), 14));
+    m4th4 <= 16'(ts_path_pkg::round_shift(64'(m4_sq), 14));
     for (int k = 0; k < 3; k++) begin
       nf4[k] <= nf3[k];
       s4[k] <= 19'(in3[k]) + 19'(t3[k]);
@@ -215,10 +209,10 @@ module ts_path_dielectric #(
     if (rst) v5 <= 1'b0;
     else v5 <= v4;
     tir5 <= tir4;
-    p5 <= 16'(round_shift(64'(m5), 14));
+    p5 <= 16'(ts_path_pkg::round_shift(64'(m5), 14));
     for (int k = 0; k < 3; k++) begin
       nf5[k] <= nf4[k];
-      perp5[k] <= 21'(round_shift(64'(eta_s[k]), 14));
+      perp5[k] <= 21'(ts_path_pkg::round_shift(64'(eta_s[k]), 14));
       mirror5[k] <= mirror4[k];
     end
     inside5 <= inside4;
@@ -249,7 +243,7 @@ module ts_path_dielectric #(
     if (rst) v6 <= 1'b0;
     else v6 <= v5;
     tir6 <= tir5;
-    refl6 <= 17'(r05) + 17'(round_shift(64'(schlick), 14));
+    refl6 <= 17'(r05) + 17'(ts_path_pkg::round_shift(64'(schlick), 14));
     q6 <= 45'sd268435456 - 45'(perp_sq[0]) - 45'(perp_sq[1]) - 45'(perp_sq[2]);
     for (int k = 0; k < 3; k++) begin
       nf6[k] <= nf5[k];
@@ -312,7 +306,7 @@ module ts_path_dielectric #(
     out_refracted <= !straight_r && !reflects_r;
     out_drew <= !straight_r && !tir_r;
     for (int k = 0; k < 3; k++)
-      out_next[k*24+:24] <= reflects_r ? 24'(mirror_r[k]) : 24'(64'(perp_r[k]) - round_shift(64'(along_nf[k]), 14));
+      out_next[k*24+:24] <= reflects_r ? 24'(mirror_r[k]) : 24'(64'(perp_r[k]) - ts_path_pkg::round_shift(64'(along_nf[k]), 14));
     out_tag <= tag_r;
   end
 endmodule

@@ -35,12 +35,6 @@ module ts_path_diffuse #(
   localparam int Quarter = 1024;
   localparam logic [63:0] PiQ62 = 64'hC90FDAA22168C234;  // pi times 2^62
 
-  function automatic logic signed [63:0] round_shift(input logic signed [63:0] x, input int s);
-    logic signed [63:0] half;
-    half = 64'sd1 <<< (s - 1);
-    if (x >= 0) round_shift = (x + half) >>> s;
-    else round_shift = -((-x + half) >>> s);
-  endfunction
 
   // round(2^14 sin(pi i / 2048)) for 0 <= i <= 1024: sin x = x - x^3/3! + x^5/5! - ..., magnitudes in 62 fractional
   // bits, to x^21/21!.
@@ -156,7 +150,7 @@ module ts_path_diffuse #(
     rho2 <= 16'((32'(root) + 32'd1) >> 1);
     cos2 <= sine(phi_r + 12'(Quarter));
     sin2 <= sine(phi_r);
-    d2 <= 18'(round_shift(64'(dot_r), 14));
+    d2 <= 18'(ts_path_pkg::round_shift(64'(dot_r), 14));
     zq2 <= zq_r;
     fuzz2 <= fuzz_r;
     tag2 <= tag_r;
@@ -181,12 +175,12 @@ module ts_path_diffuse #(
     else v3 <= v2;
     metal3 <= metal2;
     drew3 <= drew2;
-    u3[0] <= 17'(round_shift(64'(rho_cos), 14));
-    u3[1] <= 17'(round_shift(64'(rho_sin), 14));
-    u3[2] <= 17'(round_shift(64'(zq2), 1));
+    u3[0] <= 17'(ts_path_pkg::round_shift(64'(rho_cos), 14));
+    u3[1] <= 17'(ts_path_pkg::round_shift(64'(rho_sin), 14));
+    u3[2] <= 17'(ts_path_pkg::round_shift(64'(zq2), 1));
     for (int k = 0; k < 3; k++) begin
       n3[k] <= n2[k];
-      mirror3[k] <= 19'(dir2[k]) - 19'(round_shift(64'(d_n[k]) <<< 1, 14));
+      mirror3[k] <= 19'(dir2[k]) - 19'(ts_path_pkg::round_shift(64'(d_n[k]) <<< 1, 14));
     end
     fuzz3 <= fuzz2;
     tag3 <= tag2;
@@ -208,7 +202,7 @@ module ts_path_diffuse #(
     drew4 <= drew3;
     for (int k = 0; k < 3; k++) begin
       n4[k] <= n3[k];
-      if (metal3) next4[k] <= 20'(mirror3[k]) + (fuzz3 != 16'd0 ? 20'(round_shift(64'(u_fuzz[k]), 16)) : 20'sd0);
+      if (metal3) next4[k] <= 20'(mirror3[k]) + (fuzz3 != 16'd0 ? 20'(ts_path_pkg::round_shift(64'(u_fuzz[k]), 16)) : 20'sd0);
       else next4[k] <= 20'(n3[k]) + 20'(u3[k]);
     end
     tag4 <= tag3;

@@ -117,6 +117,11 @@ struct DevicePreset {
   // The sphere units path-tracing (artix-path): bounced rays walk the world's hierarchy of bounding spheres when
   // it carries one, so the host sends one (link::SceneFormats::hierarchy).
   bool walks_hierarchy() const { return units.has_value() && path.has_value(); }
+  // Whether scene memory's formats hold a ball (a sphere, or a hierarchy's bound): its centre in x, y and z, its
+  // radius in `radius`.
+  bool holds_ball(std::int64_t cx, std::int64_t cy, std::int64_t cz, std::int64_t r) const {
+    return x.contains(cx) && y.contains(cy) && z.contains(cz) && radius.contains(r);
+  }
   // Cycles a pixel with `bounces` reflections keeps its worker from starting the next pixel, with
   // `spheres` spheres in scene memory.
   std::int64_t pixel_occupancy(std::int64_t spheres, int bounces) const;

@@ -173,8 +173,7 @@ void Receiver::accept_frame(link::World&& world) {
   }
   for (std::size_t i = 0; i < world.spheres.size(); ++i) {
     const auto& s = world.spheres[i];
-    if (!preset_.x.contains(s.x) || !preset_.y.contains(s.y) || !preset_.z.contains(s.z) ||
-        !preset_.radius.contains(s.radius)) {
+    if (!preset_.holds_ball(s.x, s.y, s.z, s.radius)) {
       reject("sphere " + std::to_string(i) + " lies outside the device's number formats", bytes);
       return;
     }
@@ -188,8 +187,7 @@ void Receiver::accept_frame(link::World&& world) {
   // The hierarchy's bounds are read by the same sphere units: the root's carries nothing and is never tested.
   for (std::size_t i = 1; i < world.nodes.size(); ++i) {
     const auto& v = world.nodes[i];
-    if (!preset_.x.contains(v.x) || !preset_.y.contains(v.y) || !preset_.z.contains(v.z) ||
-        !preset_.radius.contains(v.radius)) {
+    if (!preset_.holds_ball(v.x, v.y, v.z, v.radius)) {
       reject("the bound of node " + std::to_string(i) + " lies outside the device's number formats", bytes);
       return;
     }

@@ -1,0 +1,10 @@
+// What the path preset's blocks (rtl/path/) share: the model's rounding (approx::round_shift).
+package ts_path_pkg;
+  // x >> s, rounded to nearest with ties away from zero (symmetric in sign), s >= 1.
+  function automatic logic signed [63:0] round_shift(input logic signed [63:0] x, input int s);
+    logic signed [63:0] half;
+    half = 64'sd1 <<< (s - 1);
+    if (x >= 0) round_shift = (x + half) >>> s;
+    else round_shift = -((-x + half) >>> s);
+  endfunction
+endpackage
