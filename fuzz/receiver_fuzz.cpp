@@ -147,9 +147,7 @@ Reference reference_frames(link::WireVersion wire, std::span<const std::uint8_t>
                m.geometry.push_back({{s.x, s.y, s.z}, s.radius});
                m.surfaces.push_back({s.material, s.albedo, s.fuzz, s.ior});
              }
-             for (const link::WireNode& v : w.nodes)
-               m.hierarchy.push_back({{{v.x, v.y, v.z}, v.radius}, v.first_child, v.children,
-                                      static_cast<int>(v.first_sphere), v.sphere_count});
+             for (const link::WireNode& v : w.nodes) m.hierarchy.push_back(device::hierarchy_node(v));
              ref.accepted.push_back(std::move(m));
              ref.accepted_bytes.push_back(size);
            },
@@ -246,14 +244,10 @@ void check_front(const device::SceneMemory& m, const device::DevicePreset& p, li
   for (std::size_t i = 0; i < m.hierarchy.size(); ++i) {
     const device::HierarchyNode& v = m.hierarchy[i];
     if (i > 0) {
-      FUZZ_CHECK(p.x.contains(v.bound.center.x) && p.y.contains(v.bound.center.y) && p.z.contains(v.bound.center.z) &&
-                     p.radius.contains(v.bound.radius),
+      FUZZ_CHECK(p.holds_ball(v.bound.center.x, v.bound.center.y, v.bound.center.z, v.bound.radius),
                  "a bound outside the preset's formats");
     }
-    w.nodes.push_back({static_cast<std::int32_t>(v.bound.center.x), static_cast<std::int32_t>(v.bound.center.y),
-                       static_cast<std::int32_t>(v.bound.center.z), static_cast<std::uint32_t>(v.bound.radius),
-                       static_cast<std::uint16_t>(v.first_child), static_cast<std::uint8_t>(v.children),
-                       static_cast<std::uint8_t>(v.spheres), static_cast<std::uint32_t>(v.first_sphere)});
+    w.nodes.push_back(device::wire_node(v));
   }
   FUZZ_CHECK(!link::hierarchy_error(w).has_value(), "a hierarchy in scene memory that breaks the wire's rules");
 }

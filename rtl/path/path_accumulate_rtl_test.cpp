@@ -14,6 +14,8 @@
 
 #include "rtl_ports.h"  // first: it includes verilated.h with its warnings silenced
 
+#include "path_rtl_util.h"
+
 #include <Vts_path_accumulate.h>
 
 #include <tripsitter/device/artix_path.h>
@@ -40,12 +42,7 @@ device::AccumEntry unpack(std::uint64_t v) {
 TEST(PathAccumulateRtl, EveryPixelsEntryIsTheModels) {
   std::mt19937_64 rng(91);
   VerilatedContext context;
-  context.randReset(2);
-  auto top = std::make_unique<Vts_path_accumulate>(&context);
-  top->rst = 1;
-  top->in_valid = 0;
-  for (int i = 0; i < 3; ++i) rising_edge(*top);
-  top->rst = 0;
+  auto top = path::reset_model<Vts_path_accumulate>(context);
   int bad = 0, converged = 0, reopened = 0, clamped = 0;
   for (int pixel = 0; pixel < 20000; ++pixel) {
     device::PathFrame frame;

@@ -66,24 +66,10 @@ std::vector<Bounce> random_bounces(std::size_t count, std::mt19937_64& rng) {
 template <class Top>
 int run(const std::vector<Bounce>& bounces, std::mt19937_64& rng, int report) {
   VerilatedContext context;
-  context.randReset(2);
-  auto top = std::make_unique<Top>(&context);
-  top->rst = 1;
-  top->in_valid = 0;
-  for (int i = 0; i < 3; ++i) rising_edge(*top);
-  top->rst = 0;
+  auto top = path::reset_model<Top>(context);
   return path::stream<Top, Bounce, Scatter>(
       *top, bounces, random_bounces(8, rng), kLatency, rng, [&](std::size_t) { return rng() % 6 != 0; },
-      [](Top& t, const Bounce& b) {
-        put(t.in_dir, path::pack(b.in));
-        put(t.in_normal, path::pack(b.n));
-        t.in_inside = b.inside;
-        t.in_eta_enter = static_cast<IData>(b.surface.eta_enter);
-        t.in_eta_leave = static_cast<IData>(b.surface.eta_leave);
-        t.in_r0 = static_cast<SData>(b.surface.r0);
-        t.in_straight = b.surface.passes_straight;
-        t.in_draw = b.draw;
-      },
+      path::put_bounce<Top>,
       [](Top& t) {
         Scatter s;
         s.bounce = t.out_straight ? 1 : 0;

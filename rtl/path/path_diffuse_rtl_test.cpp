@@ -84,21 +84,10 @@ TEST(PathDiffuseRtl, EveryBounceIsTheModelsBitForBit) {
   std::printf("absorbed %d, metals that drew %d, lambertian bounces that kept the normal %d\n", absorbed, metal_draws,
               short_lambertian);
   VerilatedContext context;
-  context.randReset(2);
-  auto top = std::make_unique<Vts_path_diffuse>(&context);
-  top->rst = 1;
-  top->in_valid = 0;
-  for (int i = 0; i < 3; ++i) rising_edge(*top);
-  top->rst = 0;
+  auto top = path::reset_model<Vts_path_diffuse>(context);
   const int bad = path::stream<Vts_path_diffuse, Bounce, Scatter>(
       *top, bounces, random_bounces(8, rng), kLatency, rng, [&](std::size_t) { return rng() % 6 != 0; },
-      [](Vts_path_diffuse& t, const Bounce& b) {
-        t.in_metal = b.surface.material == link::kMaterialMetal;
-        put(t.in_dir, path::pack(b.in));
-        put(t.in_normal, path::pack(b.n));
-        t.in_fuzz = b.surface.fuzz;
-        t.in_draw = b.draw;
-      },
+      path::put_bounce<Vts_path_diffuse>,
       [](Vts_path_diffuse& t) {
         Scatter s;
         s.bounce = t.out_absorbed ? 2 : 0;

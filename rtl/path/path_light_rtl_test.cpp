@@ -80,12 +80,7 @@ TEST(PathLightRtl, ThroughputAndSkyAreTheModelsBitForBit) {
   std::mt19937_64 rng(81);
   const std::vector<Path> paths = random_paths(50000, rng);
   VerilatedContext context;
-  context.randReset(2);
-  auto top = std::make_unique<Vts_path_light>(&context);
-  top->rst = 1;
-  top->in_valid = 0;
-  for (int i = 0; i < 3; ++i) rising_edge(*top);
-  top->rst = 0;
+  auto top = path::reset_model<Vts_path_light>(context);
   const int bad = path::stream<Vts_path_light, Path, Light>(
       *top, paths, random_paths(8, rng), 2, rng, [&](std::size_t) { return rng() % 5 != 0; },
       [](Vts_path_light& t, const Path& p) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -84,6 +85,38 @@ inline std::string describe(const Scatter& s) {
   return "bounce " + std::to_string(s.bounce) + " into " + std::to_string(s.into) + " refracted " +
          std::to_string(s.refracted) + " drew " + std::to_string(s.drew) + " (" + std::to_string(s.next.x) + ", " +
          std::to_string(s.next.y) + ", " + std::to_string(s.next.z) + ")";
+}
+
+// A Verilated block out of reset: its registers start random (the reset must make them irrelevant), then `rst` is
+// high for three clocks with nothing valid going in.
+template <class Top>
+std::unique_ptr<Top> reset_model(VerilatedContext& context) {
+  context.randReset(2);
+  auto top = std::make_unique<Top>(&context);
+  top->rst = 1;
+  top->in_valid = 0;
+  for (int i = 0; i < 3; ++i) rising_edge(*top);
+  top->rst = 0;
+  return top;
+}
+
+// A bounce on the ports of the block that takes it (ts_path_dielectric, ts_path_diffuse, ts_path_scatter): the fields
+// each has.
+template <class Top>
+void put_bounce(Top& t, const Bounce& b) {
+  put(t.in_dir, pack(b.in));
+  put(t.in_normal, pack(b.n));
+  t.in_draw = b.draw;
+  if constexpr (requires { t.in_material; }) t.in_material = b.surface.material;
+  if constexpr (requires { t.in_metal; }) t.in_metal = b.surface.material == link::kMaterialMetal;
+  if constexpr (requires { t.in_fuzz; }) t.in_fuzz = b.surface.fuzz;
+  if constexpr (requires { t.in_eta_enter; }) {
+    t.in_inside = b.inside;
+    t.in_eta_enter = static_cast<IData>(b.surface.eta_enter);
+    t.in_eta_leave = static_cast<IData>(b.surface.eta_leave);
+    t.in_r0 = static_cast<SData>(b.surface.r0);
+    t.in_straight = b.surface.passes_straight;
+  }
 }
 
 // Streams `items` into a Verilated block with a `clk`, `in_valid` and a 16-bit `in_tag` (the item's index), one in each

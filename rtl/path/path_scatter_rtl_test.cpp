@@ -52,27 +52,11 @@ TEST(PathScatterRtl, EveryMaterialsBounceIsTheModelsInOrder) {
   EXPECT_GT(kinds[1], 5000);
   EXPECT_GT(kinds[2], 5000);
   VerilatedContext context;
-  context.randReset(2);
-  auto top = std::make_unique<Vts_path_scatter>(&context);
-  top->rst = 1;
-  top->in_valid = 0;
-  for (int i = 0; i < 3; ++i) rising_edge(*top);
-  top->rst = 0;
+  auto top = path::reset_model<Vts_path_scatter>(context);
   const int bad = path::stream<Vts_path_scatter, Bounce, Scatter>(
       *top, bounces, random_bounces(8, rng), kLatency, rng,
       [&](std::size_t i) { return i < 10000 || rng() % 4 != 0; },  // back to back, then with gaps
-      [](Vts_path_scatter& t, const Bounce& b) {
-        t.in_material = b.surface.material;
-        put(t.in_dir, path::pack(b.in));
-        put(t.in_normal, path::pack(b.n));
-        t.in_inside = b.inside;
-        t.in_fuzz = b.surface.fuzz;
-        t.in_eta_enter = static_cast<IData>(b.surface.eta_enter);
-        t.in_eta_leave = static_cast<IData>(b.surface.eta_leave);
-        t.in_r0 = static_cast<SData>(b.surface.r0);
-        t.in_straight = b.surface.passes_straight;
-        t.in_draw = b.draw;
-      },
+      path::put_bounce<Vts_path_scatter>,
       [](Vts_path_scatter& t) {
         Scatter s;
         s.bounce = t.out_bounce;

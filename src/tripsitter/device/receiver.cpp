@@ -41,6 +41,17 @@ std::uint32_t content_of(const SceneMemory& scene) {
 
 }  // namespace
 
+HierarchyNode hierarchy_node(const link::WireNode& v) {
+  return {{{v.x, v.y, v.z}, v.radius}, v.first_child, v.children, static_cast<int>(v.first_sphere), v.sphere_count};
+}
+
+link::WireNode wire_node(const HierarchyNode& v) {
+  return {static_cast<std::int32_t>(v.bound.center.x), static_cast<std::int32_t>(v.bound.center.y),
+          static_cast<std::int32_t>(v.bound.center.z), static_cast<std::uint32_t>(v.bound.radius),
+          static_cast<std::uint16_t>(v.first_child), static_cast<std::uint8_t>(v.children),
+          static_cast<std::uint8_t>(v.spheres), static_cast<std::uint32_t>(v.first_sphere)};
+}
+
 Receiver::Receiver(const DevicePreset& preset, link::WireVersion wire)
     : preset_(preset),
       wire_(wire),
@@ -199,12 +210,8 @@ void Receiver::accept_frame(link::World&& world) {
     back_.geometry[i] = {{s.x, s.y, s.z}, s.radius};
     back_.surfaces[i] = {s.material, s.albedo, s.fuzz, s.ior};
   }
-  back_.hierarchy.resize(world.nodes.size());
-  for (std::size_t i = 0; i < world.nodes.size(); ++i) {
-    const auto& v = world.nodes[i];
-    back_.hierarchy[i] = {{{v.x, v.y, v.z}, v.radius}, v.first_child, v.children, static_cast<int>(v.first_sphere),
-                          v.sphere_count};
-  }
+  back_.hierarchy.clear();
+  for (const link::WireNode& v : world.nodes) back_.hierarchy.push_back(hierarchy_node(v));
   back_.content = content_of(back_);
   back_.sequence = world.sequence;
   back_.valid = true;

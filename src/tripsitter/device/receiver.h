@@ -55,6 +55,11 @@ struct ReceiverEvent {
   link::SequenceCheck check;             // kAccepted, v2 and v3
 };
 
+// A node of the v3 wire's hierarchy as scene memory holds it, and back: the same fields (scene_memory.h). REQUIRES
+// for wire_node a node in the wire's ranges (as every node the receiver accepted is).
+HierarchyNode hierarchy_node(const link::WireNode& v);
+link::WireNode wire_node(const HierarchyNode& v);
+
 class Receiver {
  public:
   // A preset that walks no hierarchy (DevicePreset::walks_hierarchy) refuses a v3 world that carries one at its

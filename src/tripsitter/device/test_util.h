@@ -10,6 +10,7 @@
 
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/fast_tracer.h>
+#include <tripsitter/device/receiver.h>
 #include <tripsitter/host/hierarchy.h>
 #include <tripsitter/link/frame.h>
 
@@ -215,12 +216,7 @@ inline std::vector<std::uint8_t> frame_of_scene(const DevicePreset& preset, std:
   w.sequence = sequence;
   w.frac_bits = static_cast<std::uint8_t>(preset.frac_bits());
   w.spheres = wire_spheres(scene);
-  for (const HierarchyNode& v : scene.hierarchy) {
-    w.nodes.push_back({static_cast<std::int32_t>(v.bound.center.x), static_cast<std::int32_t>(v.bound.center.y),
-                       static_cast<std::int32_t>(v.bound.center.z), static_cast<std::uint32_t>(v.bound.radius),
-                       static_cast<std::uint16_t>(v.first_child), static_cast<std::uint8_t>(v.children),
-                       static_cast<std::uint8_t>(v.spheres), static_cast<std::uint32_t>(v.first_sphere)});
-  }
+  for (const HierarchyNode& v : scene.hierarchy) w.nodes.push_back(wire_node(v));
   return link::encode_frame(wire, w);
 }
 
@@ -236,9 +232,7 @@ inline SceneMemory with_hierarchy(const DevicePreset& preset, const SceneMemory&
     out.geometry[i] = scene.geometry[h.order[i]];
     out.surfaces[i] = scene.surfaces[h.order[i]];
   }
-  for (const link::WireNode& v : h.nodes)
-    out.hierarchy.push_back({{{v.x, v.y, v.z}, v.radius}, v.first_child, v.children, static_cast<int>(v.first_sphere),
-                             v.sphere_count});
+  for (const link::WireNode& v : h.nodes) out.hierarchy.push_back(hierarchy_node(v));
   return out;
 }
 
