@@ -26,19 +26,6 @@ namespace {
 
 using Light = std::array<std::int64_t, 3>;
 
-std::uint64_t pack(const device::AccumEntry& e) {
-  return std::uint64_t{e.sum[0]} | std::uint64_t{e.sum[1]} << 17 | std::uint64_t{e.sum[2]} << 34 |
-         std::uint64_t{e.count} << 51 | std::uint64_t{e.epoch} << 59;
-}
-
-device::AccumEntry unpack(std::uint64_t v) {
-  device::AccumEntry e;
-  for (std::size_t k = 0; k < 3; ++k) e.sum[k] = static_cast<std::uint32_t>((v >> (17 * k)) & 0x1FFFF);
-  e.count = static_cast<std::uint8_t>((v >> 51) & 0xFF);
-  e.epoch = static_cast<std::uint8_t>((v >> 59) & 0x1F);
-  return e;
-}
-
 TEST(PathAccumulateRtl, EveryPixelsEntryIsTheModels) {
   std::mt19937_64 rng(91);
   VerilatedContext context;
@@ -69,7 +56,7 @@ TEST(PathAccumulateRtl, EveryPixelsEntryIsTheModels) {
     for (const Light& l : lights)
       for (const auto c : l) clamped += traced && ((c + 64) >> 7) > 511;
     // The block: open with the first sample (or alone), adds, close with the last.
-    std::uint64_t entry = pack(stored);
+    std::uint64_t entry = path::pack(stored);
     const auto op = [&](bool open, bool add, bool close, const Light& l) {
       top->in_valid = 1;
       top->in_open = open;
@@ -91,7 +78,7 @@ TEST(PathAccumulateRtl, EveryPixelsEntryIsTheModels) {
     if (rtl_traced) {
       for (int s = 0; s < frame.spp; ++s) op(false, true, s + 1 == frame.spp, lights[static_cast<std::size_t>(s)]);
     }
-    const device::AccumEntry got = unpack(entry);
+    const device::AccumEntry got = path::unpack_entry(entry);
     if (!(got == want.entry) && ++bad <= 3) {
       ADD_FAILURE() << "pixel " << pixel << ": rtl count " << int{got.count} << " epoch " << int{got.epoch} << " sums "
                     << got.sum[0] << " " << got.sum[1] << " " << got.sum[2] << "; model " << int{want.entry.count}

@@ -16,8 +16,10 @@
 
 #include "rtl_ports.h"
 
+#include <tripsitter/core/rgb444.h>
 #include <tripsitter/device/approx.h>
 #include <tripsitter/device/artix_path.h>
+#include <tripsitter/device/frame_memory.h>
 #include <tripsitter/device/path_kernel.h>
 
 namespace tripsitter::rtl::path {
@@ -85,6 +87,23 @@ inline std::string describe(const Scatter& s) {
   return "bounce " + std::to_string(s.bounce) + " into " + std::to_string(s.into) + " refracted " +
          std::to_string(s.refracted) + " drew " + std::to_string(s.drew) + " (" + std::to_string(s.next.x) + ", " +
          std::to_string(s.next.y) + ", " + std::to_string(s.next.z) + ")";
+}
+
+inline std::string describe(const core::Rgb444& c) {
+  return "colour " + std::to_string(c.r()) + " " + std::to_string(c.g()) + " " + std::to_string(c.b());
+}
+
+// A frame-memory entry as the blocks' 64-bit port: {epoch 5, count 8, b, g, r 17 bits each}.
+inline std::uint64_t pack(const device::AccumEntry& e) {
+  return std::uint64_t{e.sum[0]} | std::uint64_t{e.sum[1]} << 17 | std::uint64_t{e.sum[2]} << 34 |
+         std::uint64_t{e.count} << 51 | std::uint64_t{e.epoch} << 59;
+}
+inline device::AccumEntry unpack_entry(std::uint64_t v) {
+  device::AccumEntry e;
+  for (std::size_t k = 0; k < 3; ++k) e.sum[k] = static_cast<std::uint32_t>((v >> (17 * k)) & 0x1FFFF);
+  e.count = static_cast<std::uint8_t>((v >> 51) & 0xFF);
+  e.epoch = static_cast<std::uint8_t>((v >> 59) & 0x1F);
+  return e;
 }
 
 // A Verilated block out of reset: its registers start random (the reset must make them irrelevant), then `rst` is
