@@ -93,35 +93,53 @@ std::int64_t Controller::issue(Op op, std::int64_t address, std::int64_t not_bef
   return t + (write ? t_.cwl : t_.cl) + t_.burst;
 }
 
-LineTraffic frame_traffic(int entry_bits, int run, int frames, const Timing& timing) {
+namespace {
+
+void check_traffic(int entry_bits, int run) {
   const Geometry g;
   if (entry_bits <= 0 || (8 * g.burst_bytes()) % entry_bits != 0)
-    throw std::invalid_argument("dram::frame_traffic: an entry must divide a burst's 128 bits");
-  if (run < 1) throw std::invalid_argument("dram::frame_traffic: runs of at least one burst");
+    throw std::invalid_argument("dram: an entry must divide a burst's 128 bits");
+  if (run < 1) throw std::invalid_argument("dram: runs of at least one burst");
+}
+
+std::int64_t line_bytes(int entry_bits) { return std::int64_t{core::kScreenWidth} * entry_bits / 8; }
+
+}  // namespace
+
+std::vector<Request> line_requests(int line, int entry_bits, int run) {
+  check_traffic(entry_bits, run);
+  const Geometry g;
+  const std::int64_t bytes = line_bytes(entry_bits), bursts = bytes / g.burst_bytes();
+  const int read_line = (line + 2) % 525, write_line = line - 1;
+  const bool reads = read_line < core::kScreenHeight, writes = write_line >= 0 && write_line < core::kScreenHeight;
+  std::vector<Request> out;
+  std::int64_t r = 0, w = 0;
+  while ((reads && r < bursts) || (writes && w < bursts)) {
+    for (int k = 0; k < run && reads && r < bursts; ++k, ++r)
+      out.push_back({Op::kRead, read_line * bytes + r * g.burst_bytes()});
+    for (int k = 0; k < run && writes && w < bursts; ++k, ++w)
+      out.push_back({Op::kWrite, write_line * bytes + w * g.burst_bytes()});
+  }
+  return out;
+}
+
+LineTraffic frame_traffic(int entry_bits, int run, int frames, const Timing& timing) {
+  check_traffic(entry_bits, run);
   LineTraffic out;
   out.entry_bits = entry_bits;
-  const std::int64_t line_bytes = std::int64_t{core::kScreenWidth} * entry_bits / 8;
-  const std::int64_t bursts = line_bytes / g.burst_bytes();
-  out.bytes_per_line = 2 * line_bytes;
+  out.bytes_per_line = 2 * line_bytes(entry_bits);
   // A line period (800 pixel clocks at 25 MHz) in memory clocks: 32 us / 3.077 ns, whole clocks.
   const std::int64_t line_ps = std::int64_t{kLineCycles} * (1'000'000 / (kDeviceClockHz / 1'000'000));
   out.line_clocks = line_ps / timing.clock_ps;
   out.peak_bytes_per_line = out.line_clocks * timing.bytes_per_clock;
-  Controller memory(timing, g);
+  Controller memory(timing, Geometry{});
   std::int64_t end = 0;
   for (int f = 0; f < frames; ++f) {
     for (int line = 0; line < 525; ++line) {
       const std::int64_t start = (std::int64_t{f} * 525 + line) * out.line_clocks;
-      const int read_line = (line + 2) % 525, write_line = line - 1;
-      const bool reads = read_line < core::kScreenHeight, writes = write_line >= 0 && write_line < core::kScreenHeight;
-      std::int64_t r = 0, w = 0;
-      while ((reads && r < bursts) || (writes && w < bursts)) {
-        for (int k = 0; k < run && reads && r < bursts; ++k, ++r)
-          end = std::max(end, memory.issue(Op::kRead, read_line * line_bytes + r * g.burst_bytes(), start));
-        for (int k = 0; k < run && writes && w < bursts; ++k, ++w)
-          end = std::max(end, memory.issue(Op::kWrite, write_line * line_bytes + w * g.burst_bytes(), start));
-      }
-      if ((reads || writes) && end - start > out.worst_clocks) {
+      const std::vector<Request> requests = line_requests(line, entry_bits, run);
+      for (const Request& q : requests) end = std::max(end, memory.issue(q.op, q.address, start));
+      if (!requests.empty() && end - start > out.worst_clocks) {
         out.worst_clocks = end - start;
         out.worst_line = line;
       }

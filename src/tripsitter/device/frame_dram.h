@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace tripsitter::device::dram {
 
@@ -102,10 +103,19 @@ class Controller {
   Counts counts_;
 };
 
-// A frame's traffic through the part, line period by line period: in display line i (0..524) the device reads
-// the entries of line i + 2 (modulo 525: the line it traces next, whose counts decide what it traces) and writes back those
-// of line i - 1 (traced), in alternating runs of `run` bursts, none before the line period's start (and, the
-// controller being in order, none before the previous period's).
+// A line period's requests, in the order the device makes them: in display line i (0..524) it reads the entries of
+// line i + 2 (modulo 525: the line it traces next, whose counts decide what it traces) and writes back those of line
+// i - 1 (traced), in alternating runs of `run` bursts, reads first (a line of the 480 only; none in the others).
+// The RTL's port (rtl/path/ts_path_frame_port.sv) makes the same.
+struct Request {
+  Op op = Op::kRead;
+  std::int64_t address = 0;  // bytes
+  bool operator==(const Request&) const = default;
+};
+std::vector<Request> line_requests(int line, int entry_bits = 64, int run = 32);
+
+// A frame's traffic through the part, line period by line period: each period's requests (line_requests), none
+// before the period's start (and, the controller being in order, none before the previous period's).
 struct LineTraffic {
   int entry_bits = 64;
   std::int64_t bytes_per_line = 0;      // one line's reads and writes at most

@@ -3,6 +3,7 @@
 #include <tripsitter/device/frame_dram.h>
 
 #include <stdexcept>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -67,6 +68,26 @@ TEST(FrameDram, RefusesAnAddressThatIsNotABurstOfThePart) {
   EXPECT_THROW(m.issue(Op::kRead, -16), std::invalid_argument);
   EXPECT_THROW(m.issue(Op::kWrite, m.geometry().bytes()), std::invalid_argument);
   EXPECT_EQ(m.counts().reads + m.counts().writes, 0);
+}
+
+// A line period's requests: the reads of line i + 2 and the writes of line i - 1 in runs of 32 bursts, reads first;
+// near the frame's edges one side or none.
+TEST(FrameDram, ALinePeriodReadsTwoLinesAheadAndWritesOneBehind) {
+  const std::vector<Request> both = line_requests(1);
+  ASSERT_EQ(both.size(), 640u);
+  EXPECT_EQ(both[0], (Request{Op::kRead, 3 * 5120}));
+  EXPECT_EQ(both[31], (Request{Op::kRead, 3 * 5120 + 31 * 16}));
+  EXPECT_EQ(both[32], (Request{Op::kWrite, 0}));
+  EXPECT_EQ(both[64], (Request{Op::kRead, 3 * 5120 + 32 * 16}));
+  EXPECT_EQ(both.back(), (Request{Op::kWrite, 319 * 16}));
+  EXPECT_EQ(line_requests(0).size(), 320u);  // line 2's reads
+  EXPECT_EQ(line_requests(480).size(), 320u);  // line 479's writes
+  EXPECT_EQ(line_requests(480)[0], (Request{Op::kWrite, 479 * 5120}));
+  EXPECT_TRUE(line_requests(500).empty());
+  EXPECT_EQ(line_requests(523)[0], (Request{Op::kRead, 0}));  // the next frame's first line, two periods ahead
+  const std::vector<Request> ones = line_requests(1, 64, 1);
+  EXPECT_EQ(ones[1].op, Op::kWrite);
+  EXPECT_THROW(line_requests(1, 64, 0), std::invalid_argument);
 }
 
 // Every entry read and written once a frame: 480 lines of 640 64-bit entries, 10,240 bytes a line period, a quarter
