@@ -51,13 +51,23 @@ struct Answer {
   std::int64_t cycles = 0;  // from check to done
 };
 
-// The world's records into the block, a random idle cycle now and then, then the check; the spheres' geometry
-// answered from the world one cycle after each address, as scene memory answers it.
+// The world's spheres and node records into the block, as the receiver gives them (a random idle cycle now and
+// then), then the check.
 Answer run(Vts_path_hierarchy& top, const World& w, std::mt19937_64& rng) {
+  const auto coord = [](std::int32_t c) { return static_cast<IData>(c) & static_cast<IData>(mask(preset().x.total_bits)); };
   top.begin_world = 1;
-  top.spheres = static_cast<SData>(w.spheres.size());
   rising_edge(top);
   top.begin_world = 0;
+  for (const link::WireSphere& b : w.spheres) {
+    while (rng() % 4 == 0) rising_edge(top);
+    top.sphere_we = 1;
+    top.sphere_x = coord(b.x);
+    top.sphere_y = coord(b.y);
+    top.sphere_z = coord(b.z);
+    top.sphere_r = b.radius & static_cast<IData>(mask(preset().radius.total_bits));
+    rising_edge(top);
+    top.sphere_we = 0;
+  }
   for (const WireNode& v : w.nodes) {
     while (rng() % 4 == 0) rising_edge(top);
     top.node_we = 1;
@@ -74,19 +84,10 @@ Answer run(Vts_path_hierarchy& top, const World& w, std::mt19937_64& rng) {
   }
   top.check = 1;
   Answer r;
-  const auto coord = [](std::int32_t c) { return static_cast<IData>(c) & static_cast<IData>(mask(preset().x.total_bits)); };
   while (r.cycles < 20000) {
-    const std::size_t addr = top.sp_addr;
     rising_edge(top);
     top.check = 0;
     ++r.cycles;
-    if (addr < w.spheres.size()) {
-      const link::WireSphere& s = w.spheres[addr];
-      top.sp_x = coord(s.x);
-      top.sp_y = coord(s.y);
-      top.sp_z = coord(s.z);
-      top.sp_r = s.radius;
-    }
     if (top.done) {
       r.done = true;
       r.ok = top.ok != 0;
@@ -141,6 +142,7 @@ TEST(PathHierarchyRtl, AcceptsWhatTheReceiverAcceptsAndRefusesWhatItRefuses) {
   VerilatedContext context;
   context.randReset(2);
   auto top = std::make_unique<Vts_path_hierarchy>(&context);
+  top->begin_world = top->sphere_we = top->node_we = top->check = 0;  // Verilator starts inputs random too
   top->rst = 1;
   for (int i = 0; i < 3; ++i) rising_edge(*top);
   top->rst = 0;

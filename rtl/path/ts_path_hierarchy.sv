@@ -12,13 +12,14 @@
 //   - no children means first_child 0, no spheres means first_sphere 0, and a node but the root holds something;
 //   - the largest first_child + children and first_sphere + sphere_count are kept, for the ranges below.
 // On `check`, in turn, each a walk over the stored records (`done` for a cycle at the end, the answer in `ok`):
-//   ranges   every child range inside the nodes written, every sphere range inside the frame's `spheres`;
+//   ranges   every child range inside the nodes written, every sphere range inside the spheres written;
 //   clear    the marks below, a node's and a sphere's a cycle;
 //   tree     from the root, breadth first, each node reached once (a second time is a cycle or a second parent), none
 //            deeper than MAX_DEPTH levels below the root, every node reached: one child a cycle;
 //   spheres  every sphere in exactly one node: one sphere a cycle;
-//   enclose  every bound but the root's encloses each of its spheres (read from scene memory's copy being written,
-//            through sp_addr, one cycle later) and each of its children's bounds, in exact integers, as link::encloses:
+//   enclose  every bound but the root's encloses each of its spheres (from the block's own copy of their balls,
+//            written as the frame brings them: scene memory is written only once the world is accepted) and each of
+//            its children's bounds, in exact integers, as link::encloses:
 //            r_outer >= r_inner and |c_inner - c_outer|^2 <= (r_outer - r_inner)^2, the four squares one after
 //            another through one 23 x 23-bit multiplier: 9 cycles a sphere, 8 a child.
 // A world of 256 spheres in 17 nodes (host::build_hierarchy's) took 2,929 cycles from `check` in
@@ -35,7 +36,6 @@ module ts_path_hierarchy #(
     input  logic                     clk,
     input  logic                     rst,
     input  logic                     begin_world,  // a frame of content 1 begins: forget the last one's records
-    input  logic [SW:0]              spheres,      // the frame's sphere count, from begin_world to done
     input  logic                     node_we,
     input  logic signed [31:0]       node_x,
     input  logic signed [31:0]       node_y,
@@ -48,11 +48,13 @@ module ts_path_hierarchy #(
     input  logic                     check,        // the frame is whole and its CRCs good
     output logic                     done,
     output logic                     ok,
-    output logic [SW-1:0]            sp_addr,      // a sphere's geometry, one cycle later
-    input  logic signed [CoordW-1:0] sp_x,
-    input  logic signed [CoordW-1:0] sp_y,
-    input  logic signed [CoordW-1:0] sp_z,
-    input  logic [RadiusW-1:0]       sp_r
+    // the frame's spheres in order, as scene memory's formats hold them (a sphere outside them fails the world
+    // in the receiver's own checks; here its low bits are kept)
+    input  logic                     sphere_we,
+    input  logic signed [CoordW-1:0] sphere_x,
+    input  logic signed [CoordW-1:0] sphere_y,
+    input  logic signed [CoordW-1:0] sphere_z,
+    input  logic [RadiusW-1:0]       sphere_r
 );
   localparam int DW = $clog2(MAX_DEPTH + 2);  // a depth, 0 .. MAX_DEPTH + 1
   localparam int OpW = CoordW + 1;            // a centre's difference, or a radii's
@@ -75,6 +77,16 @@ module ts_path_hierarchy #(
   assign rd_child_end = rd_child_first + (NW + 1)'(rd[SW+8+:8]);
   assign rd_sphere_first = (SW + 1)'(rd[8+:SW]);
   assign rd_sphere_end = rd_sphere_first + (SW + 1)'(rd[7:0]);
+
+  // The spheres' balls, read a clock after the address (block RAM).
+  logic [BallW-1:0] balls[MAX_SPHERES];
+  logic [SW:0]      spheres;  // written
+  always_ff @(posedge clk) begin
+    if (begin_world) spheres <= '0;
+    else if (sphere_we && spheres != (SW + 1)'(MAX_SPHERES)) spheres <= spheres + 1'b1;
+    if (sphere_we && spheres != (SW + 1)'(MAX_SPHERES))
+      balls[SW'(spheres)] <= {sphere_x, sphere_y, sphere_z, sphere_r};
+  end
 
   // A record's own rules.
   // A 32-bit coordinate fits CoordW bits when its bits from the format's sign bit up are all equal.
@@ -184,10 +196,14 @@ module ts_path_hierarchy #(
   logic signed [CoordW-1:0] ball_x, ball_y, ball_z;  // the ball, registered
   logic [RadiusW-1:0]       ball_r;
   assign from_sphere = state == EncloseFetch;
-  assign in_x = from_sphere ? sp_x : rd_ball[BallW-1-:CoordW];
-  assign in_y = from_sphere ? sp_y : rd_ball[BallW-1-CoordW-:CoordW];
-  assign in_z = from_sphere ? sp_z : rd_ball[RadiusW+:CoordW];
-  assign in_r = from_sphere ? sp_r : rd_ball[RadiusW-1:0];
+  logic [BallW-1:0] sp;  // the ball of `sphere` a clock before
+  always_ff @(posedge clk) sp <= balls[SW'(sphere)];
+  logic [BallW-1:0] ball;
+  assign ball = from_sphere ? sp : rd_ball;
+  assign in_x = ball[BallW-1-:CoordW];
+  assign in_y = ball[BallW-1-CoordW-:CoordW];
+  assign in_z = ball[RadiusW+:CoordW];
+  assign in_r = ball[RadiusW-1:0];
 
   always_ff @(posedge clk) begin
     done <= 1'b0;
@@ -258,7 +274,7 @@ module ts_path_hierarchy #(
           state <= EncloseItem;
         end
         EncloseItem, EncloseFetch: if (state == EncloseItem && sphere != sphere_end) begin
-          sphere <= sphere + 1'b1;  // sp_addr is `sphere`: its ball arrives in EncloseFetch
+          sphere <= sphere + 1'b1;  // its ball is read now, there in EncloseFetch
           state <= EncloseFetch;
         end else if (state == EncloseItem && child == child_end) begin
           state <= EncloseLoad;
@@ -296,5 +312,4 @@ module ts_path_hierarchy #(
       endcase
     end
   end
-  assign sp_addr = SW'(sphere);
 endmodule
