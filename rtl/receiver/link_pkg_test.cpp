@@ -157,6 +157,35 @@ TEST_F(LinkPackage, SphereRecordOffsetsAreWhereTheEncoderPutsEachField) {
   EXPECT_EQ(at("SphereIorAt") + 2, at("SphereBytes"));  // ior is the record's last field
 }
 
+// v3's hierarchy: the content byte, and each field of a node record where encode_frame writes it (the second node,
+// so the offsets are from its start).
+TEST_F(LinkPackage, NodeRecordOffsetsAreWhereTheEncoderPutsEachField) {
+  link::World w;
+  w.frac_bits = 4;
+  w.spheres.push_back({0, 0, 6400, 100, link::kMaterialLambertian, {}, 0, 6144});
+  w.spheres.push_back({300, 0, 6400, 100, link::kMaterialLambertian, {}, 0, 6144});
+  w.nodes.push_back({0, 0, 0, 0, 1, 1, 0, 0});
+  w.nodes.push_back({0x11223344, -0x5566778, 0x12345678, 0x7A6B5C4D, 0x0102, 0x03, 0x02, 0x0A0B0C0D});
+  const link::WireNode& v = w.nodes[1];
+  const std::vector<std::uint8_t> f = link::encode_frame(WireVersion::kV3, w);
+  EXPECT_EQ(I(f.at(static_cast<std::size_t>(at("ContentAt")))), I(link::kContentHierarchy));
+  EXPECT_EQ(at("ContentHierarchy"), I(link::kContentHierarchy));
+  EXPECT_EQ(at("ContentAt"), at("ReservedAt"));
+  EXPECT_EQ(at("NodeBytes"), I(link::kNodeBytes));
+  EXPECT_EQ(at("MaxHierarchyDepth"), I(link::kMaxHierarchyDepth));
+  const std::size_t rec = link::kV3HeaderBytes + 2 * link::kSphereBytes + link::kNodeBytes;
+  const auto off = [&](const char* name) { return rec + static_cast<std::size_t>(at(name)); };
+  EXPECT_EQ(be32(f, off("NodeXAt")), static_cast<std::uint32_t>(v.x));
+  EXPECT_EQ(be32(f, off("NodeYAt")), static_cast<std::uint32_t>(v.y));
+  EXPECT_EQ(be32(f, off("NodeZAt")), static_cast<std::uint32_t>(v.z));
+  EXPECT_EQ(be32(f, off("NodeRadiusAt")), v.radius);
+  EXPECT_EQ(I((f.at(off("NodeFirstChildAt")) << 8) | f.at(off("NodeFirstChildAt") + 1)), I(v.first_child));
+  EXPECT_EQ(I(f.at(off("NodeChildrenAt"))), I(v.children));
+  EXPECT_EQ(I(f.at(off("NodeSphereCountAt"))), I(v.sphere_count));
+  EXPECT_EQ(be32(f, off("NodeFirstSphereAt")), v.first_sphere);
+  EXPECT_EQ(at("NodeFirstSphereAt") + 4, at("NodeBytes"));  // first_sphere is the record's last field
+}
+
 // Each v1 field: the bits encode_v1_word sets for that field alone, all ones, are exactly the package's.
 TEST_F(LinkPackage, V1FieldsAreWhereTheEncoderPutsThem) {
   EXPECT_EQ(at("V1WordBytes"), I(link::kV1WordBytes));

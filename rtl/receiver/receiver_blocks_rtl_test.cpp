@@ -499,7 +499,7 @@ class CommitRig {
     m_->byte_valid = m_->byte_full = m_->rep_valid = m_->rep_garbage = 0;
     m_->rep_bytes = 0;
     m_->hdr_sequence = m_->frame_bytes = 0;
-    m_->hdr_count = m_->hdr_frac = m_->in_body = m_->bad_sphere = m_->intact = 0;
+    m_->hdr_count = m_->hdr_frac = m_->in_body = m_->bad_sphere = m_->bad_hierarchy = m_->intact = 0;
     m_->rec_valid = m_->rec_copy = m_->copy_done = m_->seq_done = m_->seq_replay = m_->seq_new = 0;
     m_->seq_missing = 0;
     m_->word_valid = m_->word_ok = m_->partial_valid = m_->partial_bytes = 0;
@@ -611,6 +611,7 @@ class CommitRig {
     m_->rec_r = s.radius;
     m_->rec_material = s.material;
     m_->rec_albedo = (std::uint32_t{s.albedo[0]} << 16) | (std::uint32_t{s.albedo[1]} << 8) | s.albedo[2];
+    m_->rec_ior = s.ior;
     clock();
     m_->rec_valid = 0;
   }

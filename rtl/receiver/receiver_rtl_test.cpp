@@ -35,11 +35,14 @@
 #include "Vts_rx_v1_wide.h"
 #include "Vts_rx_v2_board.h"
 #include "Vts_rx_v2_wide.h"
+#include "Vts_rx_v3_artix_path.h"
 #include "Vts_rx_v3_board.h"
 #include "Vts_rx_v3_wide.h"
+#include "hierarchy_worlds.h"
 #include "test_util.h"
 
 #include <tripsitter/core/crc32.h>
+#include <tripsitter/device/path_kernel.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/receiver.h>
 #include <tripsitter/device/scene_memory.h>
@@ -64,6 +67,11 @@ struct BoardCfg {
   static constexpr int kAw = 6;
   static constexpr int kXw = 16, kYw = 15, kZw = 15, kRw = 16;
 };
+struct ArtixPathCfg {  // v3 worlds with a hierarchy (DevicePreset::walks_hierarchy)
+  static device::DevicePreset preset() { return device::artix_path_preset(); }
+  static constexpr int kAw = 8;
+  static constexpr int kXw = 22, kYw = 22, kZw = 22, kRw = 21;
+};
 template <class M, WireVersion W, class P>
 struct Cfg : P {
   using Model = M;
@@ -75,6 +83,7 @@ using V3Wide = Cfg<Vts_rx_v3_wide, WireVersion::kV3, WideCfg>;
 using V1Board = Cfg<Vts_rx_v1_board, WireVersion::kV1, BoardCfg>;
 using V2Board = Cfg<Vts_rx_v2_board, WireVersion::kV2, BoardCfg>;
 using V3Board = Cfg<Vts_rx_v3_board, WireVersion::kV3, BoardCfg>;
+using V3ArtixPath = Cfg<Vts_rx_v3_artix_path, WireVersion::kV3, ArtixPathCfg>;
 
 // ---- What is compared ----
 
@@ -457,6 +466,8 @@ link::WireSphere random_sphere(Rng& rng, const device::DevicePreset& p) {
   s.albedo = {rng.byte(), rng.byte(), rng.byte()};
   s.fuzz = static_cast<std::uint16_t>(rng.below(65536));
   s.ior = static_cast<std::uint16_t>(rng.between(1, 65535));
+  // A path preset takes dielectrics of 0.25..8 only: mostly those, now and then one outside.
+  if (p.path && rng.percent(97)) s.ior = static_cast<std::uint16_t>(rng.between(device::kPathIorMin, device::kPathIorMax));
   return s;
 }
 
@@ -918,6 +929,66 @@ TEST(RtlReceiver, V2WideHostile) { hostile_streams<V2Wide>(221, 300, 60); }
 TEST(RtlReceiver, V2BoardHostile) { hostile_streams<V2Board>(222, 300, 64); }
 TEST(RtlReceiver, V3WideHostile) { hostile_streams<V3Wide>(321, 300, 4096); }
 TEST(RtlReceiver, V3BoardHostile) { hostile_streams<V3Board>(322, 300, 64); }
+
+// The artix path preset's receiver, which takes worlds with a hierarchy: worlds without one as every v3 receiver
+// takes them (good, damaged and hostile streams), and the host's hierarchies of random path worlds, each sent as
+// built and broken in one of the ways the wire's rules name (hierarchy_worlds.h), with good worlds between, a chain
+// too deep, and headers that lie about the hierarchy: every world the model accepts is accepted and shown, every
+// one it refuses is refused and counted, the last good world staying on screen.
+TEST(RtlReceiver, V3ArtixPathGoodWorlds) { good_worlds<V3ArtixPath>(341, 20, 24); }
+TEST(RtlReceiver, V3ArtixPathDamaged) { damaged_streams<V3ArtixPath>(342, 4, 12); }
+TEST(RtlReceiver, V3ArtixPathHostile) { hostile_streams<V3ArtixPath>(345, 100, 256); }
+TEST(RtlReceiver, V3ArtixPathHierarchies) {
+  CoSim<V3ArtixPath> sim;
+  Rng rng(343);
+  std::mt19937_64 worlds(344);
+  Host host(WireVersion::kV3, hierarchy::preset(), 0x41A70001u);
+  int sent = 0, refused = 0;
+  for (int trial = 0; trial < 12 && !sim.failed(); ++trial) {
+    const link::World w = hierarchy::random_world(worlds, trial % 6 == 0);
+    sim.set_context("world " + std::to_string(trial) + " as built, " + std::to_string(w.nodes.size()) + " nodes");
+    sim.send(host.stamp(w), rng, 1024, 0);
+    sim.vblank();
+    if (w.nodes.size() < 2) continue;
+    for (const hierarchy::Damage& d : hierarchy::damages()) {
+      link::World broken = w;
+      if (!d.apply(broken, worlds) || rng.percent(50)) continue;
+      sim.set_context("world " + std::to_string(trial) + ", " + d.name);
+      ++sent;
+      refused += !hierarchy::accepted(broken);
+      sim.send(host.stamp(broken), rng, 1024, 0);
+      if (rng.percent(50)) sim.vblank();
+    }
+  }
+  sim.set_context("a chain 9 deep");
+  sim.send(host.stamp(hierarchy::chain(9)), rng, 1024, 0);
+  sim.vblank();
+  // Headers that lie about the hierarchy: content 1 with no node's bytes, with part of one (12 bytes; 32, a multiple
+  // of 8 but not of 24), with more nodes than scene memory holds spheres; a content byte of 2. Each refused at its
+  // header; a good world after each.
+  const link::World good = hierarchy::random_world(worlds, false);
+  for (int lie = 0; lie < 5; ++lie) {
+    Bytes f = host.stamp(good);
+    const std::uint32_t spheres_bytes = static_cast<std::uint32_t>(good.spheres.size() * 24);
+    const std::uint32_t lengths[] = {spheres_bytes, spheres_bytes + 12, spheres_bytes + 32, spheres_bytes + 24 * 257};
+    if (lie < 4) {
+      f[6] = link::kContentHierarchy;
+      put_be32(f, 20, lengths[lie]);
+    } else {
+      f[6] = 2;
+    }
+    fix_crcs(WireVersion::kV3, f);
+    sim.set_context("a lying header " + std::to_string(lie));
+    sim.send(f, rng, 1024, 0);
+    sim.send(host.stamp(good), rng, 1024, 0);
+    sim.vblank();
+  }
+  EXPECT_FALSE(sim.failed());
+  EXPECT_GT(sent, 50);
+  EXPECT_GT(refused, 40);
+  EXPECT_GT(sim.model().stats().frames_rejected, static_cast<std::uint64_t>(refused / 2));
+  EXPECT_GT(sim.swaps_checked(), 12);
+}
 
 // A big world on the wide preset: the commit copies hundreds of spheres, and a damaged copy of it must not
 // touch the world waiting for the swap.

@@ -46,6 +46,20 @@ package ts_link_pkg;
   localparam int MaterialMetal = 1;
   localparam int MaterialDielectric = 2;
 
+  // ---- v3's hierarchy (frame.h, docs/link_format.md "The hierarchy"): the header's content byte, a node record ---
+  localparam int ContentAt = 6;                // the first reserved byte: 0 spheres only, 1 a hierarchy follows
+  localparam int ContentHierarchy = 1;
+  localparam int NodeBytes = 24;
+  localparam int NodeXAt = 0;
+  localparam int NodeYAt = 4;
+  localparam int NodeZAt = 8;
+  localparam int NodeRadiusAt = 12;
+  localparam int NodeFirstChildAt = 16;        // 16 bits
+  localparam int NodeChildrenAt = 18;          // 8 bits
+  localparam int NodeSphereCountAt = 19;       // 8 bits
+  localparam int NodeFirstSphereAt = 20;       // 32 bits
+  localparam int MaxHierarchyDepth = 8;        // levels below the root
+
   // ---- The sequence rules (sequence.h, SequenceRules) -----------------------------------------------------------
   localparam int RetiredSessions = 16;         // ended sessions remembered, so that their frames are refused
 

@@ -41,6 +41,9 @@ module ts_receiver #(
     parameter int R_W = 24,
     parameter int MAX_SPHERES = 4096,  // scene memory capacity; a power of two
     parameter int CNT_W = 64,          // counter width (ReceiverStats holds 64-bit counters)
+    parameter int HIERARCHY = 0,       // 1: v3 worlds may carry a hierarchy (DevicePreset::walks_hierarchy)
+    parameter int IOR_MIN = 0,         // a dielectric's index of refraction, u4.12 (the path presets': 1024..32768)
+    parameter int IOR_MAX = 65535,
     parameter int AW = $clog2(MAX_SPHERES)  // derived: leave as it is
 ) (
     input  logic             clk,
@@ -81,7 +84,7 @@ module ts_receiver #(
   logic [31:0] hdr_sequence, frame_bytes;
   logic [AW:0] hdr_count;
   logic [7:0] hdr_frac;
-  logic in_body, bad_sphere, intact;
+  logic in_body, bad_sphere, intact, bad_hierarchy;
   /* verilator lint_off UNUSEDSIGNAL */
   logic admit_drop, admit_copy;  // not read on v1, which has no frames to admit
   /* verilator lint_on UNUSEDSIGNAL */
@@ -89,6 +92,7 @@ module ts_receiver #(
   logic [31:0] rec_x, rec_y, rec_z, rec_r;
   logic [7:0] rec_material;
   logic [23:0] rec_albedo;
+  logic [15:0] rec_ior;
   logic seq_done, seq_replay, seq_new;
   logic [31:0] seq_missing;
   logic word_valid, word_ok, partial_valid;
@@ -112,21 +116,58 @@ module ts_receiver #(
     assign full = 1'b0;
     assign {rep_valid, rep_garbage, rep_bytes} = '0;
     assign {hdr_sequence, hdr_count, frame_bytes, hdr_frac} = '0;
-    assign {in_body, bad_sphere, intact, rec_valid, rec_copy, copy_done} = '0;
-    assign {rec_x, rec_y, rec_z, rec_r, rec_material, rec_albedo} = '0;
+    assign {in_body, bad_sphere, intact, rec_valid, rec_copy, copy_done, bad_hierarchy} = '0;
+    assign {rec_x, rec_y, rec_z, rec_r, rec_material, rec_albedo, rec_ior} = '0;
     assign {seq_done, seq_replay, seq_new, seq_missing} = '0;
   end else begin : g_framed
     logic [31:0] hdr_session;
+    logic frame_intact, frame_rec_valid, rec_node;  // the decoder's intact frame and records, nodes among them
+    logic [63:0] rec_links;
     ts_rx_frame #(
-        .Wire(WIRE), .MaxSpheres(MAX_SPHERES), .CntW(CNT_W)
+        .Wire(WIRE), .MaxSpheres(MAX_SPHERES), .CntW(CNT_W), .Hierarchy(HIERARCHY)
     ) u_frame (
         .clk, .rst, .byte_valid, .byte_data, .end_of_stream, .full,
         .rep_valid, .rep_garbage, .rep_bytes,
         .hdr_session, .hdr_sequence, .hdr_count, .hdr_frac, .frame_bytes, .in_body, .bad_sphere,
-        .intact, .admit_drop, .admit_copy,
-        .rec_valid, .rec_copy, .rec_x, .rec_y, .rec_z, .rec_r, .rec_material, .rec_albedo, .copy_done,
+        .intact(frame_intact), .admit_drop, .admit_copy,
+        .rec_valid(frame_rec_valid), .rec_copy, .rec_x, .rec_y, .rec_z, .rec_r, .rec_material, .rec_albedo,
+        .rec_node, .rec_links, .copy_done,
         .idle(source_idle)
     );
+    // The spheres' records go on to the commit's checks and scene memory, the nodes' only to the hierarchy's check.
+    assign rec_valid = frame_rec_valid && !rec_node;
+    assign rec_ior = rec_links[15:0];  // a sphere record's last field
+    if (HIERARCHY != 0) begin : g_hierarchy
+      // An intact frame's verdict waits for its hierarchy's check (a frame without one passes it at once): the
+      // sequence rules and the commit see `intact` when it is done, with its answer held until the next frame's.
+      logic in_body_q, checking;
+      logic check_done, check_ok;
+      always_ff @(posedge clk) begin
+        in_body_q <= rst ? 1'b0 : in_body;
+        if (rst) checking <= 1'b0;
+        else if (frame_intact) checking <= 1'b1;
+        else if (check_done) checking <= 1'b0;
+        if (check_done) bad_hierarchy <= !check_ok;
+        intact <= !rst && check_done && checking;
+      end
+      ts_rx_hierarchy #(
+          .MaxSpheres(MAX_SPHERES), .CoordW(X_W), .RadiusW(R_W)
+      ) u_hierarchy (
+          .clk, .rst, .begin_world(in_body && !in_body_q),
+          .node_we(frame_rec_valid && !rec_copy && rec_node),
+          .node_x(rec_x), .node_y(rec_y), .node_z(rec_z), .node_radius(rec_r),
+          .node_first_child(rec_links[63:48]), .node_children(rec_links[47:40]),
+          .node_sphere_count(rec_links[39:32]), .node_first_sphere(rec_links[31:0]),
+          .check(frame_intact), .done(check_done), .ok(check_ok),
+          .sphere_we(frame_rec_valid && !rec_copy && !rec_node),
+          .sphere_x(rec_x[X_W-1:0]), .sphere_y(rec_y[X_W-1:0]), .sphere_z(rec_z[X_W-1:0]), .sphere_r(rec_r[R_W-1:0])
+      );
+    end else begin : g_flat
+      assign intact = frame_intact;
+      assign bad_hierarchy = 1'b0;
+      logic unused_links;  // a sphere record's ior is all the commit reads of them without a hierarchy
+      assign unused_links = ^rec_links[63:16];
+    end
     ts_rx_sequence #(
         .Wire(WIRE)
     ) u_sequence (
@@ -138,13 +179,14 @@ module ts_receiver #(
   end
 
   ts_rx_commit #(
-      .Wire(WIRE), .Frac(FRAC), .XW(X_W), .YW(Y_W), .ZW(Z_W), .RW(R_W), .MaxSpheres(MAX_SPHERES), .CntW(CNT_W)
+      .Wire(WIRE), .Frac(FRAC), .XW(X_W), .YW(Y_W), .ZW(Z_W), .RW(R_W), .MaxSpheres(MAX_SPHERES), .CntW(CNT_W),
+      .IorMin(IOR_MIN), .IorMax(IOR_MAX)
   ) u_commit (
       .clk, .rst, .byte_valid, .byte_full(full),
       .rep_valid, .rep_garbage, .rep_bytes,
-      .hdr_sequence, .hdr_count, .hdr_frac, .frame_bytes, .in_body, .bad_sphere,
+      .hdr_sequence, .hdr_count, .hdr_frac, .frame_bytes, .in_body, .bad_sphere, .bad_hierarchy,
       .intact, .admit_drop, .admit_copy,
-      .rec_valid, .rec_copy, .rec_x, .rec_y, .rec_z, .rec_r, .rec_material, .rec_albedo, .copy_done,
+      .rec_valid, .rec_copy, .rec_x, .rec_y, .rec_z, .rec_r, .rec_material, .rec_albedo, .rec_ior, .copy_done,
       .seq_done, .seq_replay, .seq_new, .seq_missing,
       .word_valid, .word_ok, .word_x, .word_y, .word_z, .word_r, .word_albedo, .partial_valid, .partial_bytes,
       .sm_begin, .sm_we, .sm_waddr, .sm_wx, .sm_wy, .sm_wz, .sm_wr, .sm_wmetal, .sm_walbedo,

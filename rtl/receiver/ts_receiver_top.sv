@@ -15,6 +15,9 @@ module ts_receiver_top #(
     parameter int MAX_SPHERES = 4096,
     parameter int NREAD = 2,
     parameter int CNT_W = 64,
+    parameter int HIERARCHY = 0,
+    parameter int IOR_MIN = 0,
+    parameter int IOR_MAX = 65535,
     parameter int AW = $clog2(MAX_SPHERES)  // derived: leave as it is
 ) (
     input  logic                 clk,
@@ -70,7 +73,8 @@ module ts_receiver_top #(
   logic [31:0] sm_sequence;
   ts_receiver #(
       .WIRE(WIRE), .FRAC(FRAC), .X_W(X_W), .Y_W(Y_W), .Z_W(Z_W), .R_W(R_W),
-      .MAX_SPHERES(MAX_SPHERES), .CNT_W(CNT_W)
+      .MAX_SPHERES(MAX_SPHERES), .CNT_W(CNT_W), .HIERARCHY(HIERARCHY),
+      .IOR_MIN(IOR_MIN), .IOR_MAX(IOR_MAX)
   ) u_rx (
       .clk, .rst, .byte_valid, .byte_data, .end_of_stream,
       .sm_begin, .sm_we, .sm_waddr, .sm_wx, .sm_wy, .sm_wz, .sm_wr, .sm_wmetal, .sm_walbedo,

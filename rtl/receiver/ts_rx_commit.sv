@@ -10,7 +10,9 @@
 //
 // Framed wires (2, 3): the spheres of a frame (ts_rx_frame's records) are checked against the preset's ranges while
 // the frame is checked; an intact frame goes to the sequence rules (ts_rx_sequence); a replay is counted and dropped
-// (`admit_drop`), a world with a bad sphere, other fractional bits or a sphere outside the preset is rejected
+// (`admit_drop`), a world with a bad sphere, other fractional bits, a sphere outside the preset (its formats, and
+// a dielectric's index of refraction its range) or (a receiver that takes hierarchies) a hierarchy that breaks its
+// rules is rejected
 // (`admit_drop`), any other is accepted (`admit_copy`, begin_write): ts_rx_frame goes over its payload again and
 // each record is written, then `copy_done` commits it. v1: a word in range is one sphere, written at once and
 // numbered by the words accepted; a word out of range, or a partial word at the end of the stream, is rejected.
@@ -26,6 +28,10 @@ module ts_rx_commit #(
     parameter int RW = 24,
     parameter int MaxSpheres = 4096,
     parameter int CntW = 64,
+    // The indices of refraction a dielectric may have, u4.12 (the path presets: kPathIorMin..kPathIorMax of
+    // device/path_kernel.h); the wire's own rule, above 0, is ts_rx_frame's bad sphere.
+    parameter int IorMin = 0,
+    parameter int IorMax = 65535,
     localparam int AW = $clog2(MaxSpheres)
 ) (
     input  logic            clk,
@@ -42,6 +48,7 @@ module ts_rx_commit #(
     input  logic [31:0]     frame_bytes,
     input  logic            in_body,
     input  logic            bad_sphere,
+    input  logic            bad_hierarchy,  // the frame's hierarchy breaks its rules (ts_rx_hierarchy), with intact
     input  logic            intact,
     output logic            admit_drop,
     output logic            admit_copy,
@@ -53,6 +60,7 @@ module ts_rx_commit #(
     input  logic [31:0]     rec_r,
     input  logic [7:0]      rec_material,
     input  logic [23:0]     rec_albedo,
+    input  logic [15:0]     rec_ior,
     input  logic            copy_done,
     // Framed wires: ts_rx_sequence (its check is `intact`).
     input  logic            seq_done,
@@ -112,7 +120,17 @@ module ts_rx_commit #(
   wire signed [63:0] sy = {{32{rec_y[31]}}, rec_y};
   wire signed [63:0] sz = {{32{rec_z[31]}}, rec_z};
   wire signed [63:0] sr = {32'd0, rec_r};
-  wire outside = sx < XMin || sx > XMax || sy < YMin || sy > YMax || sz < ZMin || sz > ZMax || sr > RMax;
+  logic ior_outside;  // a dielectric's index of refraction outside IorMin..IorMax
+  if (IorMin > 0 || IorMax < 65535) begin : g_ior
+    assign ior_outside = rec_material == 8'(ts_link_pkg::MaterialDielectric) &&
+                         (rec_ior < 16'(IorMin) || rec_ior > 16'(IorMax));
+  end else begin : g_any_ior
+    assign ior_outside = 1'b0;
+    logic unused_ior;  // every index the wire allows is taken
+    assign unused_ior = ^rec_ior;
+  end
+  wire outside = sx < XMin || sx > XMax || sy < YMin || sy > YMax || sz < ZMin || sz > ZMax || sr > RMax ||
+                 ior_outside;
   logic outside_any_q;  // a record of this frame lies outside the preset's formats
   logic content_bad_q;  // the frame's content is refused: a bad sphere, other fractional bits, a sphere outside
 
@@ -181,7 +199,7 @@ module ts_rx_commit #(
   always_ff @(posedge clk) begin
     if (!in_body) outside_any_q <= 1'b0;
     else if (rec_valid && !rec_copy && outside) outside_any_q <= 1'b1;
-    content_bad_q <= bad_sphere || outside_any_q || hdr_frac != 8'(Frac);
+    content_bad_q <= bad_sphere || outside_any_q || hdr_frac != 8'(Frac) || bad_hierarchy;
   end
 
   // Scene memory's write side, from registers.
@@ -212,7 +230,8 @@ module ts_rx_commit #(
   // p_done_after_check), then, if admitted for copy, its records with rec_copy and copy_done after exactly
   // hdr_count of them (ts_rx_frame's p_copy_after_admit, p_copy_records, p_copy_done_count); no report and no
   // record of the check pass (rec_copy low) while a frame waits or is copied (p_one_waits); the frame's header and
-  // content flags held from intact until the frame is done with (p_waits_held), its count within the capacity
+  // content flags (bad_hierarchy among them: ts_receiver holds it) held from intact until the frame is done with
+  // (p_waits_held), its count within the capacity
   // (p_header_checked); no header passed (in_body) in the clock after a reset (hdr_ok_q is reset).
   logic f_src_ok, f_rst_q;
   logic [1:0] f_wait;     // clocks since intact while the verdict is pending (1, 2), 0: none pending
@@ -221,7 +240,7 @@ module ts_rx_commit #(
   logic [AW:0] f_count;
   logic [31:0] f_sequence, f_frame_bytes;
   logic [7:0] f_frac;
-  logic f_bad_sphere;
+  logic f_bad_sphere, f_bad_hierarchy;
   wire f_busy = f_wait != 2'd0 || f_copy;
   wire f_rec_copy = rec_valid && rec_copy;
   // v1 (ts_rx_v1_word): a word (word_valid) or a partial word (partial_valid) at most one a clock, and a word
@@ -238,7 +257,8 @@ module ts_rx_commit #(
       (intact && hdr_count > (AW + 1)'(MaxSpheres)) ||
       (f_rst_q && in_body) ||  // the decoder's header state is reset with it
       (f_busy && (hdr_count != f_count || hdr_sequence != f_sequence || frame_bytes != f_frame_bytes ||
-                  hdr_frac != f_frac || bad_sphere != f_bad_sphere || !in_body))));
+                  hdr_frac != f_frac || bad_sphere != f_bad_sphere || bad_hierarchy != f_bad_hierarchy ||
+                  !in_body))));
   always_ff @(posedge clk) begin
     f_rst_q <= rst;
     f_v1_recent <= rst ? 2'b00 : {f_v1_recent[0], word_valid};
@@ -262,23 +282,32 @@ module ts_rx_commit #(
       f_frame_bytes <= frame_bytes;
       f_frac <= hdr_frac;
       f_bad_sphere <= bad_sphere;
+      f_bad_hierarchy <= bad_hierarchy;
     end
   end
 
   // ---- The specification of accept_frame's content check: the frame's fractional bits are the preset's, no record
   // has a bad sphere, and every record of the check pass fits the preset's formats (x, y, z signed in XW, YW, ZW
-  // bits: the bits above the format all copies of its sign bit; the radius unsigned in RW bits) ----
+  // bits: the bits above the format all copies of its sign bit; the radius unsigned in RW bits) and a dielectric's
+  // index of refraction its range ----
   function automatic logic f_fits_signed(input logic [31:0] v, input int w);
     f_fits_signed = (v >> (w - 1)) == 32'd0 || (~v >> (w - 1)) == 32'd0;
   endfunction
+  logic f_ior_fits;  // in IorMin..IorMax (every 16-bit index when the range is all of them)
+  if (IorMin > 0 || IorMax < 65535) begin : g_f_ior
+    assign f_ior_fits = {16'd0, rec_ior} - 32'(IorMin) <= 32'(IorMax - IorMin);
+  end else begin : g_f_any_ior
+    assign f_ior_fits = 1'b1;
+  end
   wire f_rec_fits = f_fits_signed(rec_x, XW) && f_fits_signed(rec_y, YW) && f_fits_signed(rec_z, ZW)
-                    && (rec_r >> RW) == 32'd0;
+                    && (rec_r >> RW) == 32'd0
+                    && (rec_material != 8'(ts_link_pkg::MaterialDielectric) || f_ior_fits);
   logic f_outside;  // a record of this frame's check pass does not fit
   always_ff @(posedge clk) begin
     if (!in_body) f_outside <= 1'b0;
     else if (rec_valid && !rec_copy && !f_rec_fits) f_outside <= 1'b1;
   end
-  wire f_accept = !seq_replay && !bad_sphere && !f_outside && hdr_frac == 8'(Frac);
+  wire f_accept = !seq_replay && !bad_sphere && !f_outside && hdr_frac == 8'(Frac) && !bad_hierarchy;
 
   // ---- Scene memory's side: the world open (begin_write seen, commit not yet) and its writes so far ----
   logic f_open;

@@ -45,9 +45,12 @@ module ts_rx_frame #(
     parameter int Wire = 3,                  // 2 or 3
     parameter int MaxSpheres = 4096,         // the most a frame may announce; a power of two
     parameter int CntW = 64,                 // width of a report's byte count
-    // Byte buffer: the largest frame, a quarter more and 512 bytes (wide: 128 KiB, board-2023: 4 KiB).
+    parameter int Hierarchy = 0,             // 1: v3 frames may carry a hierarchy (content 1), 1..MaxSpheres nodes
+    // Byte buffer: the largest frame (spheres and as many nodes), a quarter more and 512 bytes (wide: 128 KiB,
+    // board-2023: 4 KiB).
     parameter int BufAW = $clog2(((Wire == 3) ? ts_link_pkg::V3HeaderBytes : ts_link_pkg::V2HeaderBytes) * 5 / 4 +
-                                 ts_link_pkg::FrameTrailerBytes * 5 / 4 + 30 * MaxSpheres + 512),
+                                 ts_link_pkg::FrameTrailerBytes * 5 / 4 +
+                                 30 * MaxSpheres * (Hierarchy != 0 ? 2 : 1) + 512),
     localparam int AW = $clog2(MaxSpheres)
 ) (
     input  logic            clk,
@@ -81,6 +84,9 @@ module ts_rx_frame #(
     output logic [31:0]     rec_r,
     output logic [7:0]      rec_material,
     output logic [23:0]     rec_albedo,
+    output logic            rec_node,      // Hierarchy: the record is a node's (check pass only; the copy gives
+                                           // the spheres alone); its last 8 bytes, first_child to first_sphere:
+    output logic [63:0]     rec_links,
     output logic            copy_done,
     output logic            idle           // every byte received processed
 );
@@ -92,7 +98,8 @@ module ts_rx_frame #(
   localparam int LengthAt = (Wire == 3) ? ts_link_pkg::V3LengthAt : ts_link_pkg::V2LengthAt;
   localparam int HcrcAt = ts_link_pkg::V3HeaderCrcAt;  // v3 only
   localparam int Rec = ts_link_pkg::SphereBytes;
-  localparam int MaxFrame = H + Rec * MaxSpheres + ts_link_pkg::FrameTrailerBytes;
+  localparam int MaxFrame = H + Rec * MaxSpheres * (Hierarchy != 0 ? 2 : 1) + ts_link_pkg::FrameTrailerBytes;
+  localparam bit Content = Wire == 3 && Hierarchy != 0;  // the header's content byte may say 1
   localparam int OW = $clog2(MaxFrame + 1) + 1;       // frame offsets
   localparam int PW = BufAW + 1;                      // buffer positions: one bit more, so full != empty
   localparam logic [7:0] Version = 8'((Wire == 3) ? ts_link_pkg::V3Version : ts_link_pkg::V2Version);
@@ -162,10 +169,13 @@ module ts_rx_frame #(
   logic cand_final_q;             // the candidate ends at the frame's last byte: the verdict follows
   logic [31:0] length_q;          // the length field as it is read
   logic [31:0] session_q;         // v3: the session field as it is read
+  logic content_q;                // Content: the frame carries a hierarchy
+  logic [AW+1:0] recs_q;          // Content: the frame's records so far (its spheres first, then its nodes)
   // The offset's decodes and the header's comparisons, a clock ahead: off_q changes only in clocks that go to
   // S_FETCH, and S_EXEC always follows S_FETCH, so flags registered from it every clock are current in S_EXEC. The
   // comparisons of a field whose last byte is the one at pos compare its other bytes here and that byte in S_EXEC.
-  logic at_zero_q, at_magic_q, at_version_q, at_frac_q, at_reserved_q, at_count_check_q, at_header_end_q;
+  logic at_zero_q, at_magic_q, at_version_q, at_frac_q, at_reserved_q, at_content_q, at_count_check_q,
+        at_header_end_q;
   logic in_payload_q, at_trailer_q, at_last_q, cut_window_q;
   logic count_big_q;              // v3: count > MaxSpheres
   logic count_hi_gt_q, count_hi_eq_q;  // v2: the count's first 3 bytes against MaxSpheres's
@@ -213,14 +223,32 @@ module ts_rx_frame #(
   wire count_bad = (Wire == 3) ? count_big_q : count_hi_gt_q || (count_hi_eq_q && b > Max32[7:0]);
   wire length_bad = (Wire == 3) ? len_bad_q : len_hi_bad_q || b != count_x24_q[7:0];
   wire hcrc_bad = hcrc_hi_bad_q || b != hcrc_calc_q[7:0];
-  wire [OW-1:0] fb_of_count = OW'(H + 4) + OW'(count_x24_q);
+  // The frame's size: header, payload (its length: count x 24 without a hierarchy, checked) and trailer.
+  wire [OW-1:0] fb_of_count = Content ? OW'(H + 4) + OW'(length_q) : OW'(H + 4) + OW'(count_x24_q);
+  // Content 1: the payload is the spheres and 1 to MaxSpheres node records after them: length - count x 24 a
+  // multiple of 24 from 24 to 24 MaxSpheres, decided over three clocks (registered below; the length's last byte
+  // comes 4 bytes, 8 clocks, before the header's last, which the check waits for): the difference and its borrow;
+  // its range, its low 3 bits, and the sum of the base-4 digits of the rest (4 = 1 mod 3, so the sum is the rest
+  // mod 3); then that sum mod 3, from a table.
+  localparam int NodeBytesW = $clog2(Rec * MaxSpheres) + 1;
+  localparam int Digits = (NodeBytesW - 3 + 1) / 2;
+  logic [31:0] node_bytes_q;
+  logic node_borrow_q, node_range_bad_q, nodes_bad_q;
+  logic [4:0] node_digits_q;  // at most 3 x 8 digits
+  localparam logic [31:0] MultiplesOf3 = 32'b01001001001001001001001001001001;  // bit i: i mod 3 == 0
+  function automatic logic [4:0] digit_sum(input logic [2*Digits-1:0] v);
+    digit_sum = '0;
+    for (int i = 0; i < Digits; i++) digit_sum += 5'(v[2*i+:2]);
+  endfunction
+  wire is_node = Content && recs_q >= (AW + 2)'(count_q[AW:0]);
   wire cut_candidate = Wire == 3 && hdr_ok_q && cut_window_q && cut_magic_q;
   wire [OW-1:0] cut_at = off_q - OW'(CutWindow);  // in S_CAND, off is one past the byte that completed the candidate
 
   wire header_bad =
       (at_version_q && b != Version) ||                                  // bad version
       (at_frac_q && b > 8'(ts_link_pkg::MaxFracBits)) ||                 // bad header: frac_bits
-      (at_reserved_q && b != 8'd0) ||                                    // bad header: reserved
+      (at_reserved_q && b != 8'd0 &&                                     // bad header: reserved (v3 with a
+       !(Content && at_content_q && b == 8'(ts_link_pkg::ContentHierarchy))) ||  // hierarchy: content 0 or 1)
       (Wire == 3 && at_header_end_q && hcrc_bad) ||                      // bad header CRC
       (at_count_check_q && count_bad) ||                                 // too many spheres
       (at_header_end_q && length_bad);                                   // bad length
@@ -318,6 +346,7 @@ module ts_rx_frame #(
             if (!hdr_ok_q) begin
               bad_sphere <= 1'b0;
               sbyte_q <= '0;
+              recs_q <= '0;
               if (at_magic_q) begin
                 if (b != magic_byte(off_q[1:0])) begin
                   // Bad magic: hunt from the frame's first byte, nothing dropped yet.
@@ -338,7 +367,9 @@ module ts_rx_frame #(
                 if (sbyte_q == 5'(Rec - 1)) begin
                   rec_valid <= 1'b1;
                   rec_copy <= 1'b0;
-                  if (s_bad) bad_sphere <= 1'b1;
+                  rec_node <= is_node;
+                  recs_q <= recs_q + 1'b1;
+                  if (s_bad && !is_node) bad_sphere <= 1'b1;
                 end
               end else begin
                 // Trailer: the CRC of header and payload.
@@ -417,6 +448,7 @@ module ts_rx_frame #(
             sbyte_q <= '0;
             rec_valid <= 1'b1;
             rec_copy <= 1'b1;
+            rec_node <= 1'b0;
             left_q <= left_q - 1'b1;
             if (left_q == (AW + 1)'(1)) state_q <= S_CEND;
           end else begin
@@ -461,10 +493,12 @@ module ts_rx_frame #(
       rec_r <= srec_next[RAt-:32];
       rec_material <= srec_next[MaterialAt-:8];
       rec_albedo <= srec_next[AlbedoAt-:24];  // fuzz and ior: checked by the CRC (ior also above), not stored
+      rec_links <= srec_next[RecTop-8*ts_link_pkg::NodeFirstChildAt-:64];
     end
     if (in_frame_exec && !hdr_ok_q) begin
       // The header's fields as they go by (inspect_header reads them at these offsets).
       if (off_q == OW'(ts_link_pkg::FracBitsAt)) hdr_frac <= b;
+      if (off_q == OW'(ts_link_pkg::ContentAt)) content_q <= Content && b == 8'(ts_link_pkg::ContentHierarchy);
       if (off_q >= OW'(SessionAt) && off_q < OW'(SessionAt + 4)) session_q <= {session_q[23:0], b};
       if (off_q >= OW'(SequenceAt) && off_q < OW'(SequenceAt + 4)) hdr_sequence <= {hdr_sequence[23:0], b};
       if (off_q >= OW'(CountAt) && off_q < OW'(CountAt + 4)) count_q <= count_next;
@@ -478,6 +512,7 @@ module ts_rx_frame #(
     at_version_q <= off_q == OW'(ts_link_pkg::VersionAt);
     at_frac_q <= off_q == OW'(ts_link_pkg::FracBitsAt);
     at_reserved_q <= off_q >= OW'(ts_link_pkg::ReservedAt) && off_q < OW'(ts_link_pkg::ReservedEnd);
+    at_content_q <= off_q == OW'(ts_link_pkg::ContentAt);
     at_count_check_q <= off_q == OW'(CountCheckAt);
     at_header_end_q <= off_q == OW'(H - 1);
     in_payload_q <= off_q < fb_q - OW'(4);
@@ -487,7 +522,13 @@ module ts_rx_frame #(
     count_big_q <= count_q > Max32;
     count_hi_gt_q <= count_q[23:0] > Max32[31:8];
     count_hi_eq_q <= count_q[23:0] == Max32[31:8];
-    len_bad_q <= length_q != count_x24_q;
+    len_bad_q <= (Content && content_q) ? nodes_bad_q : length_q != count_x24_q;
+    node_bytes_q <= length_q - count_x24_q;
+    node_borrow_q <= length_q < count_x24_q;
+    node_range_bad_q <= node_borrow_q || node_bytes_q < 32'(Rec) || node_bytes_q > 32'(Rec * MaxSpheres) ||
+                        node_bytes_q[2:0] != 3'd0;
+    node_digits_q <= digit_sum((2 * Digits)'(node_bytes_q[NodeBytesW-1:3]));
+    nodes_bad_q <= node_range_bad_q || !MultiplesOf3[node_digits_q];
     len_hi_bad_q <= length_q[23:0] != count_x24_q[31:8];
     hcrc_hi_bad_q <= hcrc_car_q != hcrc_calc_q[31:8];
     cut_magic_q <= window_q[215:184] == Magic;

@@ -1,11 +1,11 @@
-// The receiver's check of a world's hierarchy of bounding spheres (the v3 wire's content 1, docs/link_format.md
-// "The hierarchy"): the node records as a frame brings them, and, once the frame is whole and intact, whether they
-// keep the rules, so that a world that breaks one is refused whole. Its C++ model is link::hierarchy_error
+// ts_rx_hierarchy: the receiver's check of a world's hierarchy of bounding spheres (the v3 wire's content 1,
+// docs/link_format.md "The hierarchy"): the node records as a frame brings them, and, once the frame is whole and
+// intact, whether they keep the rules, so that a world that breaks one is refused whole. Its C++ model is link::hierarchy_error
 // (src/tripsitter/link/frame.h) with the receiver's format check of the bounds (DevicePreset::holds_ball,
 // device/receiver.cpp): `ok` is exactly "hierarchy_error finds nothing and every bound but the root's fits scene
 // memory's formats".
 //
-// As each record is written (node_we, node 0 first; at most MAX_NODES of them, which the frame's length check
+// As each record is written (node_we, node 0 first; at most MaxNodes of them, which the frame's length check
 // guarantees, and a record beyond them fails the world):
 //   - node 0 carries no bound (x, y, z and radius 0); every other node's bound is above zero and fits the formats
 //     (CoordW-bit signed centre, RadiusW-bit radius);
@@ -15,7 +15,7 @@
 //   ranges   every child range inside the nodes written, every sphere range inside the spheres written;
 //   clear    the marks below, a node's and a sphere's a cycle;
 //   tree     from the root, breadth first, each node reached once (a second time is a cycle or a second parent), none
-//            deeper than MAX_DEPTH levels below the root, every node reached: one child a cycle;
+//            deeper than MaxDepth levels below the root, every node reached: one child a cycle;
 //   spheres  every sphere in exactly one node: one sphere a cycle;
 //   enclose  every bound but the root's encloses each of its spheres (from the block's own copy of their balls,
 //            written as the frame brings them: scene memory is written only once the world is accepted) and each of
@@ -23,15 +23,15 @@
 //            r_outer >= r_inner and |c_inner - c_outer|^2 <= (r_outer - r_inner)^2, the four squares one after
 //            another through one 23 x 23-bit multiplier: 9 cycles a sphere, 8 a child.
 // A world of 256 spheres in 17 nodes (host::build_hierarchy's) took 2,929 cycles from `check` in
-// path_hierarchy_rtl_test: 24 us at the device's 100 MHz.
-module ts_path_hierarchy #(
-    parameter int MAX_NODES = ts_artix_pkg::MaxSpheres,
-    parameter int MAX_SPHERES = ts_artix_pkg::MaxSpheres,
-    parameter int MAX_DEPTH = 8,  // link::kMaxHierarchyDepth
-    localparam int CoordW = ts_artix_pkg::CoordW,
-    localparam int RadiusW = ts_artix_pkg::RadiusW,
-    localparam int NW = $clog2(MAX_NODES),
-    localparam int SW = $clog2(MAX_SPHERES)
+// rx_hierarchy_rtl_test: 29 us at the device's 100 MHz. Part of ts_receiver when it takes hierarchies (Hierarchy).
+module ts_rx_hierarchy #(
+    parameter int MaxSpheres = 256,  // scene memory's capacity, and the most nodes a frame may carry (a power of two)
+    parameter int CoordW = 22,       // scene memory's formats: x, y, z signed, the radius unsigned
+    parameter int RadiusW = 21,
+    localparam int MaxNodes = MaxSpheres,
+    localparam int MaxDepth = ts_link_pkg::MaxHierarchyDepth,
+    localparam int NW = $clog2(MaxNodes),
+    localparam int SW = $clog2(MaxSpheres)
 ) (
     input  logic                     clk,
     input  logic                     rst,
@@ -56,7 +56,7 @@ module ts_path_hierarchy #(
     input  logic signed [CoordW-1:0] sphere_z,
     input  logic [RadiusW-1:0]       sphere_r
 );
-  localparam int DW = $clog2(MAX_DEPTH + 2);  // a depth, 0 .. MAX_DEPTH + 1
+  localparam int DW = $clog2(MaxDepth + 2);  // a depth, 0 .. MaxDepth + 1
   localparam int OpW = CoordW + 1;            // a centre's difference, or a radii's
   localparam int BallW = 3 * CoordW + RadiusW;
 
@@ -64,7 +64,7 @@ module ts_path_hierarchy #(
   // first_child and first_sphere are kept in NW and SW bits: the range checks make that exact for a world that passes
   // them, and a world that fails them is not walked.
   localparam int RecW = BallW + NW + 8 + SW + 8;
-  logic [RecW-1:0] records[MAX_NODES];
+  logic [RecW-1:0] records[MaxNodes];
   logic [NW:0]     nodes;      // records written
   logic [NW-1:0]   rd_node;
   logic [RecW-1:0] rd;
@@ -79,12 +79,12 @@ module ts_path_hierarchy #(
   assign rd_sphere_end = rd_sphere_first + (SW + 1)'(rd[7:0]);
 
   // The spheres' balls, read a clock after the address (block RAM).
-  logic [BallW-1:0] balls[MAX_SPHERES];
+  logic [BallW-1:0] balls[MaxSpheres];
   logic [SW:0]      spheres;  // written
   always_ff @(posedge clk) begin
     if (begin_world) spheres <= '0;
-    else if (sphere_we && spheres != (SW + 1)'(MAX_SPHERES)) spheres <= spheres + 1'b1;
-    if (sphere_we && spheres != (SW + 1)'(MAX_SPHERES))
+    else if (sphere_we && spheres != (SW + 1)'(MaxSpheres)) spheres <= spheres + 1'b1;
+    if (sphere_we && spheres != (SW + 1)'(MaxSpheres))
       balls[SW'(spheres)] <= {sphere_x, sphere_y, sphere_z, sphere_r};
   end
 
@@ -95,7 +95,7 @@ module ts_path_hierarchy #(
   endfunction
   logic record_bad;
   always_comb begin
-    record_bad = nodes == (NW + 1)'(MAX_NODES);
+    record_bad = nodes == (NW + 1)'(MaxNodes);
     if (nodes == '0) begin
       record_bad |= node_x != 0 || node_y != 0 || node_z != 0 || node_radius != 0;
     end else begin
@@ -118,7 +118,7 @@ module ts_path_hierarchy #(
       child_end_max <= '0;
       sphere_end_max <= '0;
     end else if (node_we) begin
-      if (nodes != (NW + 1)'(MAX_NODES)) nodes <= nodes + 1'b1;
+      if (nodes != (NW + 1)'(MaxNodes)) nodes <= nodes + 1'b1;
       records_bad <= records_bad || record_bad;
       if (17'(node_first_child) + 17'(node_children) > child_end_max)
         child_end_max <= 17'(node_first_child) + 17'(node_children);
@@ -127,7 +127,7 @@ module ts_path_hierarchy #(
     end
   end
   always_ff @(posedge clk) begin
-    if (node_we && nodes != (NW + 1)'(MAX_NODES)) begin
+    if (node_we && nodes != (NW + 1)'(MaxNodes)) begin
       records[NW'(nodes)] <= {CoordW'(node_x), CoordW'(node_y), CoordW'(node_z), RadiusW'(node_radius),
                               NW'(node_first_child), node_children, SW'(node_first_sphere), node_sphere_count};
     end
@@ -141,12 +141,12 @@ module ts_path_hierarchy #(
   state_t state;
 
   // The tree's queue, in the order nodes are reached: {depth, node}.
-  logic [DW+NW-1:0]  order[MAX_NODES];
+  logic [DW+NW-1:0]  order[MaxNodes];
   logic [NW:0]       head, tail;
   // Whether a node is reached, a sphere owned: LUT RAM, cleared a word a cycle as the check starts.
-  localparam int Marks = MAX_NODES > MAX_SPHERES ? MAX_NODES : MAX_SPHERES;
-  logic              reached[MAX_NODES];
-  logic              owned[MAX_SPHERES];
+  localparam int Marks = MaxNodes > MaxSpheres ? MaxNodes : MaxSpheres;
+  logic              reached[MaxNodes];
+  logic              owned[MaxSpheres];
   logic [$clog2(Marks):0] clear;  // the word being cleared
   logic [SW:0]       marks;      // spheres found in a node
   logic [NW:0]       node;       // the node walked (spheres, enclose)
@@ -239,7 +239,7 @@ module ts_path_hierarchy #(
         end
         TreeWalk: if (child == child_end) begin
           state <= TreeLoad;
-        end else if (reached[NW'(child)] || depth > DW'(MAX_DEPTH)) begin
+        end else if (reached[NW'(child)] || depth > DW'(MaxDepth)) begin
           state <= Fail;
         end else begin
           tail <= tail + 1'b1;
