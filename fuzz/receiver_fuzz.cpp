@@ -37,6 +37,7 @@
 #include <vector>
 
 #include <tripsitter/core/fixed.h>
+#include <tripsitter/device/path_kernel.h>
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/receiver.h>
 #include <tripsitter/device/scene_memory.h>
@@ -110,8 +111,8 @@ class SequenceModel {
 };
 
 // The receiver's acceptance rules for a framed wire (receiver.h, docs/device.md): the sequence rules for every
-// frame that arrived intact, then the preset's fractional bits and every centre and radius inside the preset's
-// formats. The decoder gets the receiver's transfers: on v3 a frame in which another intact header begins is
+// frame that arrived intact, then the preset's fractional bits, every centre and radius inside the preset's
+// formats and, on a path preset, every dielectric's index of refraction in 0.25..8. The decoder gets the receiver's transfers: on v3 a frame in which another intact header begins is
 // cut by it only while the decoder waits for its rest (wire_v3_fuzz.cpp).
 Reference reference_frames(link::WireVersion wire, std::span<const std::uint8_t> bytes, const device::DevicePreset& p,
                            const std::vector<Transfer>& transfers) {
@@ -130,6 +131,9 @@ Reference reference_frames(link::WireVersion wire, std::span<const std::uint8_t>
              bool ok = w.frac_bits == p.frac_bits();
              for (const link::WireSphere& s : w.spheres) {
                ok = ok && p.x.contains(s.x) && p.y.contains(s.y) && p.z.contains(s.z) && p.radius.contains(s.radius);
+               // A path preset takes a dielectric of index 0.25 to 8 only (docs/device.md).
+               ok = ok && (!p.path || s.material != link::kMaterialDielectric ||
+                           (s.ior >= device::kPathIorMin && s.ior <= device::kPathIorMax));
              }
              for (std::size_t i = 1; i < w.nodes.size(); ++i) {
                const link::WireNode& v = w.nodes[i];
