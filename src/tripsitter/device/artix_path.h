@@ -113,7 +113,11 @@ PathSample trace_path_sample(int col, int row, std::span<const UnitSphere> spher
       next = unit_direction(v);
     }
     take_albedo(arith, surface, throughput);
-    path = PathUnitRay{{hit_point(path.ray, hit.td), next}, hit.index, bounce.into};
+    // Field by field: a whole new ray built beside it and copied in would be loaded while its stores are in flight.
+    path.ray.o = hit_point(path.ray, hit.td);
+    path.ray.d = next;
+    path.from = hit.index;
+    path.into = bounce.into;
     count_bounce(surface, out.bounces);
   }
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <new>
 #include <optional>
 
 #include <tripsitter/device/artix_path.h>
@@ -370,11 +371,13 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
       for (std::size_t k = 0; k < levels.size(); ++k) work.passes.push_back({levels[k], k == 0 ? reflect_latency : 0});
       return with_far_side(path, near, spheres);
     };
-    pixels[static_cast<std::size_t>(col)] = path_pixel(path_arith(), col, row, memory[static_cast<std::size_t>(col)],
-                                                       frame, [&](PathRng& rng) {
-      work.chain_start.push_back(static_cast<int>(work.passes.size()));
-      return trace_path_sample(col, row, spheres, frame.surfaces, frame.depth, rng, counters, closest);
-    });
+    // Made in its place in the line's array (a new-expression from the returned value elides the copy, which would
+    // load the pixel just stored field by field and wait for those stores).
+    ::new (static_cast<void*>(&pixels[static_cast<std::size_t>(col)]))
+        PathPixel(path_pixel(path_arith(), col, row, memory[static_cast<std::size_t>(col)], frame, [&](PathRng& rng) {
+          work.chain_start.push_back(static_cast<int>(work.passes.size()));
+          return trace_path_sample(col, row, spheres, frame.surfaces, frame.depth, rng, counters, closest);
+        }));
   }
   work.start.push_back(static_cast<int>(work.chain_start.size()));
   work.chain_start.push_back(static_cast<int>(work.passes.size()));

@@ -341,7 +341,14 @@ template <class Arith, class Sample>
 PathPixel path_pixel(const Arith& arith, int col, int row, const AccumEntry& stored, const PathFrame& frame,
                      const Sample& sample) {
   PathPixel out;
-  AccumEntry e = stored.epoch == frame.epoch ? stored : AccumEntry{{}, 0, frame.epoch};
+  // The entry is updated where it is returned: a copy of one just written field by field would make the loads that
+  // read it wait for those stores (the artix path preset's fast model spent 10% of its time there).
+  AccumEntry& e = out.entry;
+  if (stored.epoch == frame.epoch) {
+    e = stored;
+  } else {
+    e.epoch = frame.epoch;  // (out.entry starts empty)
+  }
   if (e.count + frame.spp <= kMaxSamples) {
     const auto pixel = static_cast<std::uint32_t>(row * core::kScreenWidth + col);
     for (int s = 0; s < frame.spp; ++s) {
@@ -356,7 +363,6 @@ PathPixel path_pixel(const Arith& arith, int col, int row, const AccumEntry& sto
     }
     e.count = static_cast<std::uint8_t>(e.count + frame.spp);
   }
-  out.entry = e;
   out.colour = e.count > 0 ? display_colour(e, col, row, frame.dither) : core::kBlack;
   return out;
 }
