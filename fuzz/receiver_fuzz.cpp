@@ -2,9 +2,10 @@
 //
 // Input: a configuration byte, a count byte, that many transfer bytes, then the link bytes.
 //   configuration: bit 0 the wire v1 (when clear: bit 5 chooses v3 over v2), bit 1 the preset (0 wide,
-//                  1 board-2023; bit 7 set: artix-path, which takes a hierarchy on v3), bits 2..3 the transfer length unit (1, 4, 16 or 64 bytes), bit 4 keep the
-//                  frames' CRCs as they are (when clear, the CRCs of every frame with a consistent header, and on
-//                  v3 every header CRC, are rewritten first: frame_repair.h);
+//                  1 board-2023; bit 7 set: artix-path, which takes a hierarchy on v3), bits 2..3 the transfer
+//                  length unit (1, 4, 16 or 64 bytes), bit 4 keep the frames' CRCs as they are (when clear, the
+//                  CRCs of every frame with a consistent header, and on v3 every header CRC, are rewritten first:
+//                  frame_repair.h);
 //   count:         0..15 transfer bytes (count % 16); none sends the link bytes as one transfer;
 //   transfer byte: bits 0..6 the transfer's length in units (0 is an empty transfer), bit 7 a vertical
 //                  blanking (swap_if_pending) after it. The transfer bytes are used in turn, cyclically,
@@ -112,8 +113,9 @@ class SequenceModel {
 
 // The receiver's acceptance rules for a framed wire (receiver.h, docs/device.md): the sequence rules for every
 // frame that arrived intact, then the preset's fractional bits, every centre and radius inside the preset's
-// formats and, on a path preset, every dielectric's index of refraction in 0.25..8. The decoder gets the receiver's transfers: on v3 a frame in which another intact header begins is
-// cut by it only while the decoder waits for its rest (wire_v3_fuzz.cpp).
+// formats and, on a path preset, every dielectric's index of refraction in 0.25..8. The decoder gets the receiver's
+// transfers: on v3 a frame in which another intact header begins is cut by it only while the decoder waits for its
+// rest (wire_v3_fuzz.cpp).
 Reference reference_frames(link::WireVersion wire, std::span<const std::uint8_t> bytes, const device::DevicePreset& p,
                            const std::vector<Transfer>& transfers) {
   Reference ref;
@@ -130,14 +132,14 @@ Reference reference_frames(link::WireVersion wire, std::span<const std::uint8_t>
              }
              bool ok = w.frac_bits == p.frac_bits();
              for (const link::WireSphere& s : w.spheres) {
-               ok = ok && p.x.contains(s.x) && p.y.contains(s.y) && p.z.contains(s.z) && p.radius.contains(s.radius);
+               ok = ok && p.holds_ball(s.x, s.y, s.z, s.radius);
                // A path preset takes a dielectric of index 0.25 to 8 only (docs/device.md).
                ok = ok && (!p.path || s.material != link::kMaterialDielectric ||
                            (s.ior >= device::kPathIorMin && s.ior <= device::kPathIorMax));
              }
              for (std::size_t i = 1; i < w.nodes.size(); ++i) {
                const link::WireNode& v = w.nodes[i];
-               ok = ok && p.x.contains(v.x) && p.y.contains(v.y) && p.z.contains(v.z) && p.radius.contains(v.radius);
+               ok = ok && p.holds_ball(v.x, v.y, v.z, v.radius);
              }
              if (!ok) {
                ++ref.rejected;

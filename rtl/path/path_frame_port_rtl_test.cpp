@@ -21,6 +21,8 @@
 #include <Vts_path_frame_port.h>
 
 #include <tripsitter/core/screen.h>
+#include <tripsitter/device/frame_memory.h>
+#include <tripsitter/device/vga_signal.h>
 
 namespace tripsitter::rtl {
 namespace {
@@ -28,9 +30,9 @@ namespace {
 using device::dram::Op;
 using device::dram::Request;
 
-constexpr int kBursts = 320;            // a line's
-constexpr std::int64_t kRowBytes = 5120;
-constexpr int kLines = 525;
+constexpr std::int64_t kRowBytes = std::int64_t{core::kScreenWidth} * device::kAccumEntryBits / 8;  // 5,120
+constexpr int kBursts = static_cast<int>(kRowBytes / device::dram::Geometry{}.burst_bytes());   // a row's, 320
+constexpr int kLines = device::kVga640x480.v_total();                                           // 525
 
 struct Result {
   int skipped_lines = 0;  // lines whose requests the port never made (a late line replaced by the next)

@@ -467,7 +467,8 @@ link::WireSphere random_sphere(Rng& rng, const device::DevicePreset& p) {
   s.fuzz = static_cast<std::uint16_t>(rng.below(65536));
   s.ior = static_cast<std::uint16_t>(rng.between(1, 65535));
   // A path preset takes dielectrics of 0.25..8 only: mostly those, now and then one outside.
-  if (p.path && rng.percent(97)) s.ior = static_cast<std::uint16_t>(rng.between(device::kPathIorMin, device::kPathIorMax));
+  if (p.path && rng.percent(97))
+    s.ior = static_cast<std::uint16_t>(rng.between(device::kPathIorMin, device::kPathIorMax));
   return s;
 }
 

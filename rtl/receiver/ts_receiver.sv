@@ -139,16 +139,14 @@ module ts_receiver #(
     assign rec_ior = rec_links[15:0];  // a sphere record's last field
     if (HIERARCHY != 0) begin : g_hierarchy
       // An intact frame's verdict waits for its hierarchy's check (a frame without one passes it at once): the
-      // sequence rules and the commit see `intact` when it is done, with its answer held until the next frame's.
-      logic in_body_q, checking;
+      // sequence rules and the commit see `intact` when it is done (the check is done only after `check`, which is
+      // the frame's intact), with its answer held until the next frame's.
+      logic in_body_q;
       logic check_done, check_ok;
       always_ff @(posedge clk) begin
         in_body_q <= rst ? 1'b0 : in_body;
-        if (rst) checking <= 1'b0;
-        else if (frame_intact) checking <= 1'b1;
-        else if (check_done) checking <= 1'b0;
         if (check_done) bad_hierarchy <= !check_ok;
-        intact <= !rst && check_done && checking;
+        intact <= !rst && check_done;
       end
       ts_rx_hierarchy #(
           .MaxSpheres(MAX_SPHERES), .CoordW(X_W), .RadiusW(R_W)

@@ -12,10 +12,10 @@
 // the frame is checked; an intact frame goes to the sequence rules (ts_rx_sequence); a replay is counted and dropped
 // (`admit_drop`), a world with a bad sphere, other fractional bits, a sphere outside the preset (its formats, and
 // a dielectric's index of refraction its range) or (a receiver that takes hierarchies) a hierarchy that breaks its
-// rules is rejected
-// (`admit_drop`), any other is accepted (`admit_copy`, begin_write): ts_rx_frame goes over its payload again and
-// each record is written, then `copy_done` commits it. v1: a word in range is one sphere, written at once and
-// numbered by the words accepted; a word out of range, or a partial word at the end of the stream, is rejected.
+// rules is rejected (`admit_drop`), any other is accepted (`admit_copy`, begin_write): ts_rx_frame goes over its
+// payload again and each record is written, then `copy_done` commits it. v1: a word in range is one sphere, written
+// at once and numbered by the words accepted; a word out of range, or a partial word at the end of the stream, is
+// rejected.
 //
 // Scene memory's write side is driven from registers of this block and of the decoders (the records, the v1
 // sphere, the header's count and number), so its write port adds no logic but the metal flag's compare.
@@ -132,7 +132,8 @@ module ts_rx_commit #(
   wire outside = sx < XMin || sx > XMax || sy < YMin || sy > YMax || sz < ZMin || sz > ZMax || sr > RMax ||
                  ior_outside;
   logic outside_any_q;  // a record of this frame lies outside the preset's formats
-  logic content_bad_q;  // the frame's content is refused: a bad sphere, other fractional bits, a sphere outside
+  logic content_bad_q;  // the frame's content is refused: a bad sphere, other fractional bits, a sphere outside,
+                        // a hierarchy that breaks its rules
 
   // ---- The events counted: at most one drop report a clock (the decoder's, or a verdict's) ----
   wire v1_reject = V1 && (partial_valid || (word_valid && !word_ok));
@@ -231,8 +232,8 @@ module ts_rx_commit #(
   // hdr_count of them (ts_rx_frame's p_copy_after_admit, p_copy_records, p_copy_done_count); no report and no
   // record of the check pass (rec_copy low) while a frame waits or is copied (p_one_waits); the frame's header and
   // content flags (bad_hierarchy among them: ts_receiver holds it) held from intact until the frame is done with
-  // (p_waits_held), its count within the capacity
-  // (p_header_checked); no header passed (in_body) in the clock after a reset (hdr_ok_q is reset).
+  // (p_waits_held), its count within the capacity (p_header_checked); no header passed (in_body) in the clock after
+  // a reset (hdr_ok_q is reset).
   logic f_src_ok, f_rst_q;
   logic [1:0] f_wait;     // clocks since intact while the verdict is pending (1, 2), 0: none pending
   logic f_copy;           // admitted for copy: records and copy_done may come

@@ -37,6 +37,9 @@
 // Records (`rec_*`, one clock each, registered): every sphere record of a frame whose header passed, first while the
 // frame is checked (`rec_copy` low: the receiver checks the preset's ranges), then, once admitted, again while the
 // payload is copied out (`rec_copy` high: the receiver writes it to scene memory). `copy_done` follows the last.
+// With `Hierarchy`, a v3 frame's header may say content 1: its length then covers 1 to MaxSpheres node records after
+// the spheres, which the check pass gives too, marked `rec_node` (the receiver's ts_rx_hierarchy checks them); the
+// copy gives the spheres alone.
 //
 // End of stream: `end_of_stream` is handled when the engine has processed every byte received before it: a partial
 // frame is dropped as truncated, a hunt in progress as a garbage run. A second end_of_stream before the first is
@@ -224,7 +227,7 @@ module ts_rx_frame #(
   wire length_bad = (Wire == 3) ? len_bad_q : len_hi_bad_q || b != count_x24_q[7:0];
   wire hcrc_bad = hcrc_hi_bad_q || b != hcrc_calc_q[7:0];
   // The frame's size: header, payload (its length: count x 24 without a hierarchy, checked) and trailer.
-  wire [OW-1:0] fb_of_count = Content ? OW'(H + 4) + OW'(length_q) : OW'(H + 4) + OW'(count_x24_q);
+  wire [OW-1:0] fb_of_header = Content ? OW'(H + 4) + OW'(length_q) : OW'(H + 4) + OW'(count_x24_q);
   // Content 1: the payload is the spheres and 1 to MaxSpheres node records after them: length - count x 24 a
   // multiple of 24 from 24 to 24 MaxSpheres, decided over three clocks (registered below; the length's last byte
   // comes 4 bytes, 8 clocks, before the header's last, which the check waits for): the difference and its borrow;
@@ -357,7 +360,7 @@ module ts_rx_frame #(
                 end
               end else if (at_header_end_q && !header_bad) begin  // (a header error: below)
                 hdr_ok_q <= 1'b1;
-                fb_q <= fb_of_count;
+                fb_q <= fb_of_header;
               end
             end else begin
               if (in_payload_q) begin

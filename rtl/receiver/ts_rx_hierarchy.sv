@@ -1,9 +1,9 @@
 // ts_rx_hierarchy: the receiver's check of a world's hierarchy of bounding spheres (the v3 wire's content 1,
 // docs/link_format.md "The hierarchy"): the node records as a frame brings them, and, once the frame is whole and
-// intact, whether they keep the rules, so that a world that breaks one is refused whole. Its C++ model is link::hierarchy_error
-// (src/tripsitter/link/frame.h) with the receiver's format check of the bounds (DevicePreset::holds_ball,
-// device/receiver.cpp): `ok` is exactly "hierarchy_error finds nothing and every bound but the root's fits scene
-// memory's formats".
+// intact, whether they keep the rules, so that a world that breaks one is refused whole. Its C++ model is
+// link::hierarchy_error (src/tripsitter/link/frame.h) with the receiver's format check of the bounds
+// (DevicePreset::holds_ball, device/receiver.cpp): `ok` is exactly "hierarchy_error finds nothing and every bound
+// but the root's fits scene memory's formats".
 //
 // As each record is written (node_we, node 0 first; at most MaxNodes of them, which the frame's length check
 // guarantees, and a record beyond them fails the world):
@@ -88,8 +88,8 @@ module ts_rx_hierarchy #(
       balls[SW'(spheres)] <= {sphere_x, sphere_y, sphere_z, sphere_r};
   end
 
-  // A record's own rules.
-  // A 32-bit coordinate fits CoordW bits when its bits from the format's sign bit up are all equal.
+  // A record's own rules. A 32-bit coordinate fits CoordW bits when its bits from the format's sign bit up are all
+  // equal.
   function automatic logic fits_signed(input logic [32-CoordW:0] high);
     fits_signed = high == '0 || high == '1;
   endfunction

@@ -5,6 +5,7 @@
 
 #include <tripsitter/core/screen.h>
 #include <tripsitter/device/preset.h>
+#include <tripsitter/device/vga_signal.h>
 
 namespace tripsitter::device::dram {
 
@@ -104,13 +105,15 @@ void check_traffic(int entry_bits, int run) {
 
 std::int64_t line_bytes(int entry_bits) { return std::int64_t{core::kScreenWidth} * entry_bits / 8; }
 
+constexpr int kLines = kVga640x480.v_total();  // a frame's line periods, 525
+
 }  // namespace
 
 std::vector<Request> line_requests(int line, int entry_bits, int run) {
   check_traffic(entry_bits, run);
   const Geometry g;
   const std::int64_t bytes = line_bytes(entry_bits), bursts = bytes / g.burst_bytes();
-  const int read_line = (line + 2) % 525, write_line = line - 1;
+  const int read_line = (line + 2) % kLines, write_line = line - 1;
   const bool reads = read_line < core::kScreenHeight, writes = write_line >= 0 && write_line < core::kScreenHeight;
   std::vector<Request> out;
   std::int64_t r = 0, w = 0;
@@ -135,8 +138,8 @@ LineTraffic frame_traffic(int entry_bits, int run, int frames, const Timing& tim
   Controller memory(timing, Geometry{});
   std::int64_t end = 0;
   for (int f = 0; f < frames; ++f) {
-    for (int line = 0; line < 525; ++line) {
-      const std::int64_t start = (std::int64_t{f} * 525 + line) * out.line_clocks;
+    for (int line = 0; line < kLines; ++line) {
+      const std::int64_t start = (std::int64_t{f} * kLines + line) * out.line_clocks;
       const std::vector<Request> requests = line_requests(line, entry_bits, run);
       for (const Request& q : requests) end = std::max(end, memory.issue(q.op, q.address, start));
       if (!requests.empty() && end - start > out.worst_clocks) {

@@ -47,7 +47,7 @@ struct Geometry {
   int rows = 16384;
   int columns = 1024;  // 16-bit words a row
   int word_bytes = 2;
-  std::int64_t burst_bytes() const { return std::int64_t{8} * word_bytes; }
+  constexpr std::int64_t burst_bytes() const { return std::int64_t{8} * word_bytes; }
   std::int64_t bytes() const { return std::int64_t{banks} * rows * columns * word_bytes; }
 };
 
