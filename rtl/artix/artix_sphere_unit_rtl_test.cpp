@@ -3,16 +3,14 @@
 // (DeviceUnits::hit_latency): random rays from the camera and from hit points, spheres around them at the
 // formats' limits, passes of 0 to 12 slots with excluded pairs, back to back and with gaps.
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <deque>
 #include <memory>
-#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "rtl_ports.h"  // first: it includes verilated.h with its warnings silenced
+#include "sphere_unit_draw.h"  // first: it includes verilated.h with its warnings silenced
 
 #include <Vts_artix_sphere_unit.h>
 
@@ -24,25 +22,9 @@ namespace {
 
 namespace artix = device::artix;
 
-constexpr int kOriginW = 24, kDirW = 18, kCoordW = 22, kTdW = 45, kBdW = 44, kFW = 48, kExpW = 6;
+using namespace sphere_unit;  // the draw and the port helpers (sphere_unit_draw.h)
+
 constexpr int kSceneReadCycles = 2;
-
-// Bits lo .. lo + width - 1 (width <= 64) of a wide port.
-template <std::size_t Words>
-UInt128 field(const VlWide<Words>& port, int lo, int width) {
-  UInt128 v = 0;
-  for (int b = 0; b < width; ++b) {
-    const int at = lo + b;
-    v |= static_cast<UInt128>((port[static_cast<std::size_t>(at / 32)] >> (at % 32)) & 1u) << b;
-  }
-  return v;
-}
-
-UInt128 pack3(const artix::Vec3i& v, int bits) {
-  UInt128 out = 0;
-  for (int k = 0; k < 3; ++k) out |= (static_cast<UInt128>(v[static_cast<std::size_t>(k)]) & ((UInt128{1} << bits) - 1)) << (k * bits);
-  return out;
-}
 
 // A pass as the engine sends it: its ray, its slots' spheres (-1: a slot without a pair, the excluded sphere's or
 // an idle one), and the model's answer.
@@ -87,54 +69,6 @@ class SphereUnit {
  private:
   std::unique_ptr<Vts_artix_sphere_unit> top_;
   std::int64_t now_ = 0;
-};
-
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : rng_(seed) {}
-  double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
-  int below(int n) { return static_cast<int>(rng_() % static_cast<std::uint64_t>(n)); }
-  std::int64_t clamp_coord(double v) {
-    const double limit = std::ldexp(1.0, kCoordW - 1) - 1;
-    return static_cast<std::int64_t>(std::llround(std::clamp(v, -limit, limit)));
-  }
-  // A ray: the camera's for a random pixel, or from a random point (a hit point's range) along a unit direction.
-  artix::UnitRay ray() {
-    if (below(2) == 0) return {{}, artix::camera_direction(below(640), below(480))};
-    artix::UnitRay r;
-    const double reach = std::ldexp(1.0, 4 + below(18));
-    for (auto& o : r.o) o = clamp_coord(uniform(-reach, reach));
-    double v[3], len = 0;
-    for (double& x : v) {
-      x = uniform(-1, 1);
-      len += x * x;
-    }
-    len = std::sqrt(len);
-    for (std::size_t k = 0; k < 3; ++k)
-      r.d[k] = std::clamp<std::int64_t>(std::llround(v[k] / len * 131072.0), -artix::kDirectionMax, artix::kDirectionMax);
-    return r;
-  }
-  // A sphere near the ray (most hit or graze it, some behind, some around the origin), or anywhere.
-  artix::UnitSphere sphere(const artix::UnitRay& ray) {
-    const double r = std::max(1.0, std::ldexp(uniform(1, 2), below(21)) - 1);
-    std::array<std::int64_t, 3> c{};
-    if (below(6) == 0) {
-      for (auto& x : c) x = clamp_coord(uniform(-2097151, 2097151));
-    } else {
-      const double t = below(8) == 0 ? uniform(-r, r) : std::ldexp(uniform(0.5, 1), below(22)) * (below(6) == 0 ? -1 : 1);
-      const double off = r * uniform(0, 1.3);
-      for (std::size_t k = 0; k < 3; ++k)
-        c[k] = clamp_coord(static_cast<double>(ray.o[k]) + t * static_cast<double>(ray.d[k]) / 131072.0 +
-                           off * uniform(-0.6, 0.6));
-    }
-    core::KernelSphere<std::int64_t> k;
-    k.center = {c[0], c[1], c[2]};
-    k.radius = std::min<std::int64_t>(static_cast<std::int64_t>(r), (std::int64_t{1} << 21) - 1);
-    return artix::prepare_sphere(k, core::KernelSurface{});
-  }
-
- private:
-  std::mt19937_64 rng_;
 };
 
 // The model's answer for a pass: the closest hit over its pairs (ascending, as the engine sends them).

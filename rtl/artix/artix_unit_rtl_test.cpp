@@ -14,7 +14,7 @@
 
 #include <gtest/gtest.h>
 
-#include "rtl_ports.h"  // first: it includes verilated.h with its warnings silenced
+#include "sphere_unit_draw.h"  // first: it includes verilated.h with its warnings silenced
 
 #include <Vts_artix_unit_12.h>
 #include <Vts_artix_unit_5.h>
@@ -29,12 +29,7 @@ namespace artix = device::artix;
 
 constexpr int kCoordW = 22, kDirW = 18, kLineCycles = 3200;
 
-UInt128 pack3(const artix::Vec3i& v, int bits) {
-  UInt128 out = 0;
-  for (int k = 0; k < 3; ++k)
-    out |= (static_cast<UInt128>(v[static_cast<std::size_t>(k)]) & ((UInt128{1} << bits) - 1)) << (k * bits);
-  return out;
-}
+using sphere_unit::pack3;
 
 struct Write {
   int slot;

@@ -17,6 +17,17 @@
 // then out_td, out_bd, out_f, out_s and out_e are that pair's artix::Quadratic (t d, b d, f, sqrt(D)) and its
 // scale, and out_carry the hit sphere's in_carry.
 //
+// Path tracing (PATH = 1, the artix path preset: artix::walk_closest_hit and with_far_side of
+// src/tripsitter/device/artix_units.h and artix_path.h). A pass's pairs need not come in ascending index: in_index
+// is the pair's sphere, and of two hits at the same t d the lower index wins, whatever their order (keep_closest's
+// rule). A pair with in_far set is the sphere the ray is inside (it went into it at its last bounce): its candidate
+// is the far root t d = b d + s 2^(17 + e), when D >= 0 and that is above 0 (artix::far_td), and out_far says the
+// pass's hit is such a far side. A slot with in_bound tests a bound of the world's hierarchy instead of a sphere: it
+// is never a hit; it is entered when D >= 0 and its far root is above 0 (artix::enters), which out_entered says in
+// the cycle out_entered_valid is high, one such report for each bound slot, in the order the slots came, in the cycle
+// the pass's result would come out had the slot been its end (so a pass's bounds are all reported by the time its
+// result comes out). With PATH = 0 the three inputs are not read and the three outputs are 0.
+//
 // Pipeline (stage k's registers hold a slot k + 1 cycles after it reached the ports; every product one DSP48E1,
 // its 25-bit operand on A and the 18-bit one on B):
 //   0      the ports, registered
@@ -30,13 +41,15 @@
 //   14     D = r2s - F.F, and whether it is negative (or F saturated)
 //   ...    Pad cycles: the slack of the latency the model promises (docs/device.md counts it)
 //   15..31 s = floor(sqrt(D)) (ts_artix_isqrt: 17 digit steps)
-//   32, 33 s 2^(17 + e) (a shift by 1..21), then t d = b d - s 2^(17 + e)
-//   34     the closest-hit register: a hit (D >= 0, t d > 0) with t d below the pass's best so far replaces it;
-//          on the pass's end slot, the pass's result
+//   32, 33 s 2^(17 + e) (a shift by 1..21), then t d = b d - s 2^(17 + e) (PATH: b d + s 2^(17 + e) for a far pair
+//          or a bound)
+//   34     the closest-hit register: a hit (D >= 0, t d > 0) with t d below the pass's best so far replaces it
+//          (PATH: or equal to it, with a lower index); on the pass's end slot, the pass's result
 // (stages 15 and on come Pad cycles later than their number says).
 module ts_artix_sphere_unit
 #(
-    parameter int CARRY_W = 1  // the hit sphere's fields the shading needs, carried with each pair
+    parameter int CARRY_W = 1,  // the hit sphere's fields the shading needs, carried with each pair
+    parameter int PATH = 0      // 1: the artix path preset's unit (above)
 ) (
     input  logic                   clk,
     input  logic                   rst,
@@ -49,6 +62,9 @@ module ts_artix_sphere_unit
     input  logic [ts_artix_pkg::ExpW-1:0]        in_e,      // signed, -16..4
     input  logic [ts_artix_pkg::R2sW-1:0]        in_r2s,
     input  logic [CARRY_W-1:0]     in_carry,
+    input  logic                   in_far,    // PATH: the pair's candidate is its far root
+    input  logic                   in_bound,  // PATH: the slot tests a hierarchy's bound
+    input  logic [ts_artix_pkg::SphereAW-1:0]    in_index,  // PATH: the pair's sphere (ties to the lower)
     output logic                   out_valid,
     output logic                   out_hit,
     output logic [ts_artix_pkg::TdW-1:0]         out_td,    // signed
@@ -56,7 +72,10 @@ module ts_artix_sphere_unit
     output logic [3*ts_artix_pkg::FW-1:0]        out_f,     // signed
     output logic [ts_artix_pkg::SqrtW-1:0]       out_s,
     output logic [ts_artix_pkg::ExpW-1:0]        out_e,     // signed
-    output logic [CARRY_W-1:0]     out_carry
+    output logic [CARRY_W-1:0]     out_carry,
+    output logic                   out_far,            // PATH: the hit is the far side of an in_far pair
+    output logic                   out_entered_valid,  // PATH: a bound slot's report
+    output logic                   out_entered
 );
   // The package's facts this block uses (Yosys 0.23 takes package names qualified, not imported).
   localparam int OriginW = ts_artix_pkg::OriginW;
@@ -71,6 +90,7 @@ module ts_artix_sphere_unit
   localparam int FW = ts_artix_pkg::FW;
   localparam int SqrtW = ts_artix_pkg::SqrtW;
   localparam int TdW = ts_artix_pkg::TdW;
+  localparam int SphereAW = ts_artix_pkg::SphereAW;
 
   localparam int Stages = 35;                                  // registers from the ports to the result (0..34)
   localparam int Latency = ts_artix_pkg::HitLatency + 1 - ts_artix_pkg::SceneReadCycles;   // what the engine's schedule counts on
@@ -81,16 +101,31 @@ module ts_artix_sphere_unit
   localparam int FfW = SqW;                                    // F.F < 3 2^34 < 2^36 (non-negative)
   localparam int ShiftW = 5;                                   // 17 + e: 1..21
   localparam int HitFW = 39;                                   // a hit's f_k (below)
-  localparam int RestW = BdW + 3 * HitFW + SqrtW + ExpW + CARRY_W;  // a hit's fields but t d
+  localparam int IndexW = PATH != 0 ? SphereAW : 1;                // the pair's index riding along (PATH)
+  localparam int RestW = BdW + 3 * HitFW + SqrtW + ExpW + CARRY_W + 1;  // a hit's fields but t d and its index
+  localparam int FlagW = PATH != 0 ? 5 : 3;                         // {first, pair, end}, PATH: then {far, bound}
   localparam int ResultW = 1 + TdW + RestW;
 
   if (Pad < 0) begin : g_bad_latency
     $error("ts_artix_sphere_unit: the pipeline is longer than the hit latency the schedule counts on");
   end
 
-  // Slot flags: valid (any of the three) resets; the rest are data.
+  // Slot flags: valid (any of them but far) resets; the rest are data.
   logic [14:0] v_q;  // stage k's slot is valid
-  (* mem2reg *) logic [2:0]  flags_q [15];  // {first, pair, end}
+  (* mem2reg *) logic [FlagW-1:0] flags_q [15];
+  logic [FlagW-1:0] in_flags;
+  logic             in_valid;
+  if (PATH != 0) begin : g_path_flags
+    assign in_flags = {in_first, in_pair, in_end, in_far, in_bound};
+    assign in_valid = in_first | in_pair | in_end | in_bound;
+  end else begin : g_flags_in
+    assign in_flags = {in_first, in_pair, in_end};
+    assign in_valid = in_first | in_pair | in_end;
+    /* verilator lint_off UNUSEDSIGNAL */  // the path preset's inputs, not read by the artix preset's unit
+    logic unused_path;
+    assign unused_path = ^{in_far, in_bound, in_index};
+    /* verilator lint_on UNUSEDSIGNAL */
+  end
 
   // ---- 0: the ports ------------------------------------------------------------------------------------------
   (* mem2reg *) logic signed [OriginW-1:0] o0_q [3];
@@ -102,8 +137,8 @@ module ts_artix_sphere_unit
 
   always_ff @(posedge clk) begin
     if (rst) v_q[0] <= 1'b0;
-    else v_q[0] <= in_first | in_pair | in_end;
-    flags_q[0] <= {in_first, in_pair, in_end};
+    else v_q[0] <= in_valid;
+    flags_q[0] <= in_flags;
     for (int k = 0; k < 3; k++) begin
       o0_q[k] <= in_o[k*OriginW+:OriginW];
       d0_q[k] <= in_d[k*DirW+:DirW];
@@ -226,13 +261,13 @@ module ts_artix_sphere_unit
   // ---- 15..31: s = floor(sqrt(D)) ----------------------------------------------------------------------------
   // A negative D's root is never used: the pair misses.
   logic             v31;
-  logic [3:0]       tag31;  // {first, pair, end, miss}
+  logic [FlagW:0]   tag31;  // {flags, miss}
   logic [SqrtW-1:0] s31;
   // The slack the model's latency leaves (Pad cycles) is taken here, where a slot is narrowest: D and four flags.
   logic             pad_v;
   logic [R2sW-1:0]  pad_disc;
-  logic [3:0]       pad_tag;
-  ts_artix_delay #(.W(R2sW + 4), .N(Pad)) pad_delay (
+  logic [FlagW:0]   pad_tag;
+  ts_artix_delay #(.W(R2sW + FlagW + 1), .N(Pad)) pad_delay (
       .clk, .in({miss14_q ? '0 : disc14_q, flags_q[14], miss14_q}), .out({pad_disc, pad_tag})
   );
   if (Pad == 0) begin : g_no_pad
@@ -246,7 +281,7 @@ module ts_artix_sphere_unit
     assign pad_v = pad_v_q[Pad-1];
   end
 
-  ts_artix_isqrt #(.WIDTH(R2sW), .TAG_W(4)) isqrt (
+  ts_artix_isqrt #(.WIDTH(R2sW), .TAG_W(FlagW + 1)) isqrt (
       .clk, .rst,
       .in_valid(pad_v), .in_value(pad_disc), .in_tag(pad_tag),
       .out_valid(v31), .out_root(s31), .out_tag(tag31)
@@ -264,10 +299,13 @@ module ts_artix_sphere_unit
   ts_artix_delay #(.W(3 * HitFW), .N(26 + Pad)) f_delay (.clk, .in(f7_flat), .out(f33));
   ts_artix_delay #(.W(CARRY_W), .N(33 + Pad)) carry_delay (.clk, .in(carry0_q), .out(carry33));
   ts_artix_delay #(.W(ExpW), .N(24 + Pad)) e_delay_31 (.clk, .in(e7), .out(e31));
+  logic [IndexW-1:0] index0_q, index33;
+  always_ff @(posedge clk) index0_q <= PATH != 0 ? IndexW'(in_index) : '0;
+  ts_artix_delay #(.W(IndexW), .N(33 + Pad)) index_delay (.clk, .in(index0_q), .out(index33));
 
   // ---- 32, 33: t d = b d - s 2^(17 + e) ----------------------------------------------------------------------
   logic                    v32_q, v33_q;
-  logic [3:0]              tag32_q, tag33_q;
+  logic [FlagW:0]          tag32_q, tag33_q;
   logic [SqrtW-1:0]        s32_q, s33_q;
   logic [SqrtW+20:0]       scaled_s32_q;  // s < 2^17 shifted by up to 21
   logic signed [ExpW-1:0]  e32_q, e33_q;
@@ -288,22 +326,31 @@ module ts_artix_sphere_unit
     e32_q        <= e31;
     e33_q        <= e32_q;
     scaled_s32_q <= (SqrtW + 21)'(s31) << (DirFrac + 32'(e31));
-    td33_q       <= TdW'(bd32) - TdW'(scaled_s32_q);
+    // A far pair or a bound (tag32_q's far and bound flags, PATH) takes the far root.
+    td33_q       <= PATH != 0 && |tag32_q[2:1] ? TdW'(bd32) + TdW'(scaled_s32_q) : TdW'(bd32) - TdW'(scaled_s32_q);
     bd33_q       <= bd32;
   end
 
   // ---- 34: the closest-hit register --------------------------------------------------------------------------
-  logic first33, pair33, end33, miss33, cand_hit, take;
-  assign {first33, pair33, end33, miss33} = tag33_q;
+  logic first33, pair33, end33, far33, bound33, miss33, cand_hit, take, nearer;
+  if (PATH != 0) begin : g_path_tag
+    assign {first33, pair33, end33, far33, bound33, miss33} = tag33_q;
+  end else begin : g_tag
+    assign {first33, pair33, end33, miss33} = tag33_q;
+    assign far33 = 1'b0;
+    assign bound33 = 1'b0;
+  end
   assign cand_hit = v33_q && pair33 && !miss33 && td33_q > 0;
 
   logic                   best_valid_q;
   logic signed [TdW-1:0]  best_td_q;
-  logic [RestW-1:0]     best_rest_q;  // b d, f, s, e, carry of the best hit
+  logic [IndexW-1:0]      best_index_q;
+  logic [RestW-1:0]     best_rest_q;  // b d, f, s, e, carry and far of the best hit
   logic [RestW-1:0]     cand_rest;
-  assign cand_rest = {bd33_q, f33, s33_q, e33_q, carry33};
-  // A slot that opens a pass drops the previous pass's best.
-  assign take = cand_hit && (first33 || !best_valid_q || td33_q < best_td_q);
+  assign cand_rest = {bd33_q, f33, s33_q, e33_q, carry33, far33};
+  // A slot that opens a pass drops the previous pass's best. The path's ties go to the lower index.
+  assign nearer = td33_q < best_td_q || (PATH != 0 && td33_q == best_td_q && index33 < best_index_q);
+  assign take = cand_hit && (first33 || !best_valid_q || nearer);
 
   logic                   next_valid;
   logic signed [TdW-1:0]  next_td;
@@ -323,13 +370,24 @@ module ts_artix_sphere_unit
       result_v_q   <= v33_q && end33;
     end
     best_td_q   <= next_td;
+    if (take) best_index_q <= index33;
     best_rest_q <= next_rest;
     result_q    <= {next_valid, next_td, next_rest};
   end
 
+  // A bound's report (PATH).
+  logic entered_v_q, entered_q;
+  always_ff @(posedge clk) begin
+    if (rst) entered_v_q <= 1'b0;
+    else entered_v_q <= v33_q && bound33;
+    entered_q <= !miss33 && td33_q > 0;
+  end
+  assign out_entered_valid = entered_v_q;
+  assign out_entered = entered_q;
+
   logic [3*HitFW-1:0] out_f_narrow;
   assign out_valid = result_v_q;
-  assign {out_hit, out_td, out_bd, out_f_narrow, out_s, out_e, out_carry} = result_q;
+  assign {out_hit, out_td, out_bd, out_f_narrow, out_s, out_e, out_carry, out_far} = result_q;
   for (genvar k = 0; k < 3; k++) begin : g_out_f
     assign out_f[k*FW+:FW] = FW'($signed(out_f_narrow[k*HitFW+:HitFW]));
   end

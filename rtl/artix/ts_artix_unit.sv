@@ -292,14 +292,19 @@ module ts_artix_unit #(
   logic [ts_artix_pkg::SqrtW-1:0]      hit_s;
   logic [ExpW-1:0]                     hit_e;
   logic [CarryW-1:0]                   hit_carry;
+  /* verilator lint_off UNUSEDSIGNAL */  // the path preset's outputs, 0 in the artix preset's unit
+  logic unused_far, unused_entered_valid, unused_entered;
+  /* verilator lint_on UNUSEDSIGNAL */
   ts_artix_sphere_unit #(.CARRY_W(CarryW)) unit (
       .clk(gclk), .rst(rst || flush),
       .in_first(s2_valid_q && s2_first_q), .in_pair(s2_valid_q && s2_pair_q), .in_end(s2_valid_q && s2_end_q),
       .in_o(s2_o_q), .in_d(s2_d_q),
       .in_c(sphere_c), .in_e(sphere_e), .in_r2s(sphere_r2s),
       .in_carry({s2_sphere_q, sphere_r, sphere_rinv, sphere_metal, sphere_albedo}),
+      .in_far(1'b0), .in_bound(1'b0), .in_index('0),
       .out_valid(hit_valid), .out_hit(hit), .out_td(hit_td), .out_bd(hit_bd), .out_f(hit_f), .out_s(hit_s),
-      .out_e(hit_e), .out_carry(hit_carry)
+      .out_e(hit_e), .out_carry(hit_carry),
+      .out_far(unused_far), .out_entered_valid(unused_entered_valid), .out_entered(unused_entered)
   );
 
   // ---- shading and reflection -------------------------------------------------------------------------------
