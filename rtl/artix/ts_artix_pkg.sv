@@ -25,6 +25,7 @@ package ts_artix_pkg;
   localparam int SceneReadCycles = 2;  // from a pair's issue to its sphere's fields at the unit (of HitLatency)
   localparam int ReflectLatency = 20;  // from a hit known to the reflected ray in its unit's queue
   localparam int ShadeLatency = 12;    // from the last hit known to the colour in the line buffer
+  localparam int WalkLead = 1;         // artix-path: cycles a walk's later level holds the port before its first slot
 
   // ---- The arithmetic (artix_kernel.h) ------------------------------------------------------------------------
   localparam int DirFrac = 17;         // unit directions and normals: times 2^17

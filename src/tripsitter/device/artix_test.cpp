@@ -237,16 +237,16 @@ TEST(ArtixSchedule, AWalksNextLevelFollowsItsHitsWithoutTheScatter) {
     work.start.push_back(static_cast<int>(work.chain_start.size()));
     work.chain_start.push_back(static_cast<int>(work.passes.size()));
     work.passes.push_back({4, 0});
-    if (c == 5) work.passes.insert(work.passes.end(), {Pass{9, 69}, Pass{16, 0}});  // a bounce: bounds, then spheres
+    if (c == 5) work.passes.insert(work.passes.end(), {Pass{9, 69, 0}, Pass{16, 0, 1}});  // bounds, then spheres
   }
   work.start.push_back(static_cast<int>(work.chain_start.size()));
   work.chain_start.push_back(static_cast<int>(work.passes.size()));
   const auto finish = artix::unit_finish_cycles(p, work);
   // Unit 5: column 5's camera ray issues [0, 4), known at 44; column 325 issues [4, 8), done at 48 + 32 = 80. The
-  // bounce's bounds wait from 113 and issue [113, 122), known at 162; its spheres issue [162, 178), known at 218:
-  // done at 250.
+  // bounce's bounds wait from 113 and issue [113, 122), known at 162; its spheres' level reads its first node in
+  // 162 (the walk's lead) and issues [163, 179), known at 219: done at 251.
   EXPECT_EQ(finish[325], 80);
-  EXPECT_EQ(finish[5], 250);
+  EXPECT_EQ(finish[5], 251);
 }
 
 TEST(ArtixSchedule, AHeavyLineIsLateFromTheLeadOn) {

@@ -250,7 +250,7 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
         break;
       }
       const auto p = static_cast<std::size_t>(job.pass);
-      cycle += std::max<std::int64_t>(u.min_pass, work.passes[p].tests);
+      cycle += work.passes[p].lead + std::max<std::int64_t>(u.min_pass, work.passes[p].tests);
       const std::int64_t known = cycle + u.hit_latency;
       if (job.pass + 1 < work.chain_start[static_cast<std::size_t>(job.chain) + 1])
         push(work.passes[p + 1].wait, {known + work.passes[p + 1].wait, queued++, job.col, job.chain, job.pass + 1});
@@ -342,7 +342,7 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
   std::array<PathPixel, kLineWidth> pixels{};
   const bool walk = !world.nodes.empty();
   const auto all_spheres = static_cast<int>(spheres.size());
-  const int reflect_latency = preset.units->reflect_latency;
+  const int reflect_latency = preset.units->reflect_latency, walk_lead = preset.units->walk_lead;
   // The line's chains, in buffers each thread keeps from line to line.
   thread_local LineChains work;
   work.start.clear();
@@ -366,9 +366,13 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
                                                 : closest_hit(path.ray, spheres, world.balls, path.from);
         return with_far_side(path, near, spheres);
       }
+      // A walk: its first pass tests the root's spheres and children, with a slot more for the far side of the
+      // sphere the ray went into (the walk may not reach that sphere's node: with_far_side tests it anyway); each
+      // later level first reads its nodes through the level list.
       levels.clear();
       const Hit near = walk_closest_hit(path.ray, world, path.from, levels);
-      for (std::size_t k = 0; k < levels.size(); ++k) work.passes.push_back({levels[k], k == 0 ? reflect_latency : 0});
+      work.passes.push_back({levels[0] + (path.into ? 1 : 0), reflect_latency, 0});
+      for (std::size_t k = 1; k < levels.size(); ++k) work.passes.push_back({levels[k], 0, walk_lead});
       return with_far_side(path, near, spheres);
     };
     // Made in its place in the line's array (a new-expression from the returned value elides the copy, which would

@@ -109,9 +109,10 @@ Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, std::sp
 // .. chain_start[k + 1]), at least one, the first the camera ray's.
 struct LineChains {
   struct Pass {
-    int tests = 0;  // the pairs it issues
+    int tests = 0;  // the slots it issues (each a pair, but the sphere the ray leaves: its slot is spent)
     int wait = 0;   // cycles from the previous pass's hit known to this pass joining the queue (a bounce's
                     // reflect_latency, 0 for the next level of a walk; the chain's first: unused)
+    int lead = 0;   // cycles it holds the port before its first slot (a walk's later level: walk_lead)
   };
   std::vector<int> start;        // kLineWidth + 1 entries
   std::vector<int> chain_start;  // one entry a chain and one more
@@ -119,7 +120,7 @@ struct LineChains {
 };
 
 // The units' schedule of a line's chains: when each column's colour reaches the line buffer, in cycles from the
-// start of the line's work. A pass keeps its unit's issue port max(tests, min_pass) cycles and its hit is known
+// start of the line's work. A pass keeps its unit's issue port lead + max(tests, min_pass) cycles and its hit is known
 // hit_latency after; the next pass of its chain joins the unit's queue `wait` cycles later. A unit takes the
 // queued pass known first (ties in the order queued) when one is known, else its next chain (its columns in
 // order, a column's chains in order), else it waits for the queue. A column's colour is there shade_latency after

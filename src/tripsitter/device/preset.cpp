@@ -79,7 +79,7 @@ std::optional<std::string> DevicePreset::validate() const {
   if (units) {
     if (units->tile_columns < 1 || kLineWidth % units->tile_columns != 0) return "tile columns must divide 640";
     if (units->min_pass < 1) return "a pass takes at least one cycle";
-    if (units->hit_latency < 0 || units->reflect_latency < 0 || units->shade_latency < 0)
+    if (units->hit_latency < 0 || units->reflect_latency < 0 || units->shade_latency < 0 || units->walk_lead < 0)
       return "the units' latencies must not be negative";
     if (x.total_bits > artix::kMaxCoordinateBits || y.total_bits > artix::kMaxCoordinateBits ||
         z.total_bits > artix::kMaxCoordinateBits || radius.total_bits > artix::kMaxRadiusBits)
