@@ -25,9 +25,10 @@
 # and on artix the tile lists by a replica per pair and the per-world constants by one per unit).
 #
 # Sources. ts_device: the link's package first (rtl/receiver/ts_link_pkg.sv: the receiver's blocks name ts_link_pkg::X,
-# so Yosys must have read it; Yosys 0.23 cannot parse `import`), then every rtl/*/ts_*.sv but rtl/artix/ and rtl/boards/. ts_artix_device:
-# its package first (rtl/artix/ts_artix_pkg.sv, likewise), the other rtl/artix/ts_*.sv, rtl/common's, and the receiver's files (the
-# link's package first) and VGA files it shares with ts_device (TS_ARTIX_DEVICE_SOURCES of rtl/artix/CMakeLists.txt).
+# so Yosys must have read it; Yosys 0.23 cannot parse `import`), then every rtl/*/ts_*.sv but rtl/artix/, rtl/path/
+# (the artix path preset's blocks) and rtl/boards/. ts_artix_device: its package first (rtl/artix/ts_artix_pkg.sv,
+# likewise), the other rtl/artix/ts_*.sv, rtl/common's, and the receiver's files (the link's package first) and VGA
+# files it shares with ts_device (TS_ARTIX_DEVICE_SOURCES of rtl/artix/CMakeLists.txt).
 #
 # Blocks. synth_xilinx keeps the hierarchy (no -flatten), so Yosys synthesises every module on its own, once for all
 # its instances, and the design's counts are the sum of its modules' over their instances. A block is a module with
@@ -108,7 +109,10 @@ preset_sources() {
     echo rtl/vga/ts_vga_timing.sv rtl/vga/ts_line_buffers.sv rtl/common/ts_clock_gate.sv
   else
     echo rtl/receiver/ts_link_pkg.sv
-    for f in rtl/*/ts_*.sv; do [[ "$f" == rtl/artix/* || "$f" == rtl/boards/* || "$f" == rtl/receiver/ts_link_pkg.sv ]] || echo "$f"; done
+    for f in rtl/*/ts_*.sv; do
+      [[ "$f" == rtl/artix/* || "$f" == rtl/path/* || "$f" == rtl/boards/* || "$f" == rtl/receiver/ts_link_pkg.sv ]] ||
+        echo "$f"
+    done
   fi
 }
 
