@@ -368,7 +368,7 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
       }
       // A walk: its first pass tests the root's spheres and children, with a slot more for the far side of the
       // sphere the ray went into (the walk may not reach that sphere's node: with_far_side tests it anyway); each
-      // later level first reads its nodes through the level list.
+      // later level first reads its first node's record (walk_lead).
       levels.clear();
       const Hit near = walk_closest_hit(path.ray, world, path.from, levels);
       work.passes.push_back({levels[0] + (path.into ? 1 : 0), reflect_latency, 0});

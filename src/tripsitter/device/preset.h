@@ -80,8 +80,8 @@ struct DeviceUnits {
   int hit_latency = 40;      // cycles from a pass's last pair issued to its closest hit known
   int reflect_latency = 20;  // from a hit known to the reflected ray waiting in the unit's queue
   int shade_latency = 12;    // from the last hit known to the colour in the line buffer
-  // Cycles a walk's later level (artix-path) holds the issue port before its first slot: its first node read
-  // through the level list the pass before wrote.
+  // Cycles a walk's later level (artix-path) holds the issue port before its first slot: the record of its first
+  // node read (the walker keeps that node's index in a register).
   int walk_lead = 1;
   bool operator==(const DeviceUnits&) const = default;
 };
