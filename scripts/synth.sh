@@ -71,7 +71,7 @@
 # Runs on whatever tree it sits in (rtl/ beside it). Needs yosys (Debian: yosys) and awk. Logs, statistics and
 # netlists are kept in build/synth/. Times here, on 2 cores shared by several: `synth.sh board-2023` 1 min 29 s,
 # `synth.sh wide` 6 min 54 s (4 min 39 s of CPU, the depth walk included), `synth.sh artix` 1 min 59 s (1 min 54 s of
-# CPU), `synth.sh 12 artix` 3 min 15 s, `synth.sh table` 5 min 24 s for the three presets (5 min 8 s of CPU),
+# CPU), `synth.sh 12 artix` 3 min 15 s, `synth.sh table` 5 min 4 s for the three presets (4 min 55 s of CPU),
 # `synth.sh arty standalone` and `synth.sh arty spi` 2 min 15 s of CPU each.
 set -euo pipefail
 cd "$(dirname "$0")/.."
