@@ -12,9 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sphere_unit_draw.h"  // first: it includes verilated.h with its warnings silenced
-
-#include <Vts_artix_sphere_unit_path.h>
+#include "path_slot.h"  // first: it includes verilated.h with its warnings silenced
 
 #include <tripsitter/device/artix_path.h>
 
@@ -23,17 +21,11 @@ namespace {
 
 namespace artix = device::artix;
 
-using namespace sphere_unit;  // the draw and the port helpers (sphere_unit_draw.h)
+using namespace sphere_unit;  // the draw, the port helpers and the slot (sphere_unit_draw.h, path_slot.h)
 
 // The result comes out this many cycles after the pass's end slot was at the ports (HitLatency + 1 -
 // SceneReadCycles: ArtixSphereUnitRtl.LatencyIsTheSchedulesHitLatency).
 constexpr int kLatency = 39;
-
-// A slot of a pass: a sphere's pair, the far side of the sphere the ray is in, a bound, or nothing.
-struct Slot {
-  enum Kind { kNone, kPair, kFar, kBound } kind = kNone;
-  int index = 0;  // the sphere, or the bound
-};
 
 struct Pass {
   artix::UnitRay ray;
@@ -71,19 +63,8 @@ class PathSphereUnit {
   void slot(const Pass& pass, std::size_t i, const std::vector<artix::UnitSphere>& spheres,
             const std::vector<artix::UnitSphere>& bounds) {
     const Slot& s = pass.slots[i];
-    top_->in_first = i == 0;
-    top_->in_end = i + 1 == pass.slots.size();
-    top_->in_pair = s.kind == Slot::kPair || s.kind == Slot::kFar;
-    top_->in_far = s.kind == Slot::kFar;
-    top_->in_bound = s.kind == Slot::kBound;
-    top_->in_index = static_cast<CData>(s.index);
-    put(top_->in_o, pack3(pass.ray.o, kOriginW));
-    put(top_->in_d, pack3(pass.ray.d, kDirW));
     const artix::UnitSphere& b = (s.kind == Slot::kBound ? bounds : spheres)[static_cast<std::size_t>(s.index)];
-    put(top_->in_c, pack3(b.c, kCoordW));
-    put(top_->in_e, static_cast<UInt128>(b.e) & 0x3f);
-    put(top_->in_r2s, static_cast<UInt128>(b.r2s));
-    put(top_->in_carry, static_cast<UInt128>(s.index));
+    drive(*top_, s, i == 0, i + 1 == pass.slots.size(), pass.ray, b);
   }
   void idle() { top_->in_first = top_->in_pair = top_->in_end = top_->in_far = top_->in_bound = 0; }
   Vts_artix_sphere_unit_path& top() { return *top_; }

@@ -16,9 +16,8 @@
 
 #include <gtest/gtest.h>
 
-#include "sphere_unit_draw.h"  // first: it includes verilated.h with its warnings silenced
+#include "path_slot.h"  // first: it includes verilated.h with its warnings silenced
 
-#include <Vts_artix_sphere_unit_path.h>
 #include <Vts_path_walk.h>
 
 #include <tripsitter/device/artix_path.h>
@@ -30,21 +29,10 @@ namespace tripsitter::rtl {
 namespace {
 
 namespace artix = device::artix;
-using namespace sphere_unit;  // the draw and the port helpers (sphere_unit_draw.h)
+using namespace sphere_unit;  // the draw, the port helpers and the slot (sphere_unit_draw.h, path_slot.h)
 
 constexpr int kIds = 8;      // the Verilated walker's (PARAMS IDS=8)
 constexpr int kMinPass = 3;  // DeviceUnits::min_pass
-
-struct Slot {
-  enum Kind { kNone, kPair, kFar, kBound } kind = kNone;
-  int index = 0;
-  bool operator==(const Slot&) const = default;
-};
-
-std::string describe(const Slot& s) {
-  const char* kinds[] = {"none", "pair", "far", "bound"};
-  return std::string(kinds[s.kind]) + " " + std::to_string(s.index);
-}
 
 // A walk's passes as the model makes them: each level's slots, in order (walk_closest_hit's levels, with the far
 // pair and the pads the walker adds; a slot without a pair for the sphere the ray leaves).
@@ -255,18 +243,7 @@ void run(const artix::UnitWorld& world, std::vector<Walk>& walks, Stats& stats) 
       const Walk& w = walks[walk_of[static_cast<std::size_t>(to_unit_id)]];
       const artix::UnitSphere& b = to_unit.kind == Slot::kBound ? world.nodes[static_cast<std::size_t>(to_unit.index)].bound
                                                                   : world.spheres[static_cast<std::size_t>(to_unit.index)];
-      unit->in_first = to_unit_first;
-      unit->in_end = to_unit_end;
-      unit->in_pair = to_unit.kind == Slot::kPair || to_unit.kind == Slot::kFar;
-      unit->in_far = to_unit.kind == Slot::kFar;
-      unit->in_bound = to_unit.kind == Slot::kBound;
-      unit->in_index = static_cast<CData>(to_unit.index);
-      put(unit->in_o, pack3(w.ray.o, kOriginW));
-      put(unit->in_d, pack3(w.ray.d, kDirW));
-      put(unit->in_c, pack3(b.c, kCoordW));
-      put(unit->in_e, static_cast<UInt128>(b.e) & 0x3f);
-      put(unit->in_r2s, static_cast<UInt128>(b.r2s));
-      put(unit->in_carry, static_cast<UInt128>(to_unit.index));
+      drive(*unit, to_unit, to_unit_first, to_unit_end, w.ray, b);
     }
     walker->clk = 0;
     walker->eval();
