@@ -163,9 +163,11 @@ module ts_artix_device #(
   assign shown_valid   = front_valid;
   assign receiver_idle = rx_idle && world_idle;
 
-  // Without a world every pixel is background: the units see no spheres.
+  // Without a world every pixel is background: the units see no spheres. Registered: the count feeds each unit's
+  // last-slot decision and the tile lists' build, and changes only at a swap, in vertical blanking, lines before
+  // either reads it.
   logic [AW:0] spheres;
-  assign spheres = front_valid ? front_count : '0;
+  always_ff @(posedge clk) spheres <= rst || !front_valid ? '0 : front_count;
 
   // ---- the world's preparation and the tile lists -------------------------------------------------------------
   logic            bounds_we, bounds_empty;
