@@ -37,33 +37,6 @@ constexpr int kOriginW = 24, kDirW = 18, kBdW = 44, kFW = 48, kSqrtW = 17, kTdW 
 constexpr int kMaxBounces = 3, kTintW = 8 * kMaxBounces, kTagW = 10;
 constexpr int kReflectLatency = 20, kShadeLatency = 12, kMinPass = 3;
 
-// Bits [lo, lo + width) of a port of any width, width <= 64.
-template <std::size_t Words>
-void set_bits(VlWide<Words>& port, int lo, int width, std::int64_t v) {
-  for (int b = 0; b < width; ++b) {
-    const auto at = static_cast<std::size_t>(lo + b);
-    const EData bit = static_cast<EData>((static_cast<std::uint64_t>(v) >> b) & 1u) << (at % 32);
-    port[at / 32] = (port[at / 32] & ~(EData{1} << (at % 32))) | bit;
-  }
-}
-template <class Port>
-void set_bits(Port& port, int lo, int width, std::int64_t v) {
-  const UInt128 m = ((UInt128{1} << width) - 1) << lo;
-  put(port, (get(port) & ~m) | ((static_cast<UInt128>(static_cast<std::uint64_t>(v)) << lo) & m));
-}
-template <std::size_t Words>
-std::int64_t bits_of(const VlWide<Words>& port, int lo, int width) {
-  std::uint64_t v = 0;
-  for (int b = 0; b < width; ++b) {
-    const auto at = static_cast<std::size_t>(lo + b);
-    v |= static_cast<std::uint64_t>((port[at / 32] >> (at % 32)) & 1u) << b;
-  }
-  return static_cast<std::int64_t>(v);
-}
-template <class Port>
-std::int64_t bits_of(const Port& port, int lo, int width) {
-  return static_cast<std::int64_t>((get(port) >> lo) & ((UInt128{1} << width) - 1));
-}
 std::int64_t signed_bits(std::int64_t v, int width) {
   return static_cast<std::int64_t>(sign_extend(static_cast<UInt128>(v), width));
 }

@@ -138,7 +138,7 @@ TEST(ArtixSphereUnitRtl, PassesEqualTheModel) {
     const artix::Quadratic q = artix::quadratic(ray, sphere);
     EXPECT_EQ(sign_extend(get(top.out_bd), kBdW), q.bd);
     for (int k = 0; k < 3; ++k)
-      EXPECT_EQ(sign_extend(field(top.out_f, k * kFW, kFW), kFW), q.f[static_cast<std::size_t>(k)]) << k;
+      EXPECT_EQ(sign_extend(static_cast<UInt128>(bits_of(top.out_f, k * kFW, kFW)), kFW), q.f[static_cast<std::size_t>(k)]) << k;
     EXPECT_EQ(static_cast<std::int64_t>(top.out_s), q.s);
     EXPECT_EQ(sign_extend(get(top.out_e), kExpW), sphere.e);
   };

@@ -1,5 +1,5 @@
 // What the sphere unit's tests share (ts_artix_sphere_unit.sv, as the artix preset's unit and as the path preset's):
-// a ray or a sphere packed into a port, a field read out of a wide one, and the random rays and spheres they draw.
+// a ray or a sphere packed into a port, and the random rays and spheres they draw.
 #pragma once
 
 #include <algorithm>
@@ -17,17 +17,6 @@ namespace tripsitter::rtl::sphere_unit {
 namespace artix = device::artix;
 
 constexpr int kOriginW = 24, kDirW = 18, kCoordW = 22, kTdW = 45, kBdW = 44, kFW = 48, kExpW = 6;
-
-// Bits lo .. lo + width - 1 (width <= 64) of a wide port.
-template <std::size_t Words>
-UInt128 field(const VlWide<Words>& port, int lo, int width) {
-  UInt128 v = 0;
-  for (int b = 0; b < width; ++b) {
-    const int at = lo + b;
-    v |= static_cast<UInt128>((port[static_cast<std::size_t>(at / 32)] >> (at % 32)) & 1u) << b;
-  }
-  return v;
-}
 
 // Component k of v in bits k * bits .. (k + 1) * bits - 1.
 inline UInt128 pack3(const artix::Vec3i& v, int bits) {

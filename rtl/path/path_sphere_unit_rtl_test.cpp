@@ -116,7 +116,7 @@ TEST(PathSphereUnitRtl, PassesAndBoundsEqualTheModel) {
     EXPECT_EQ(top.out_far != 0, due.hit.inside) << "pass " << seen.passes;
     EXPECT_EQ(sign_extend(get(top.out_bd), kBdW), due.winner.bd);
     for (int k = 0; k < 3; ++k)
-      EXPECT_EQ(sign_extend(field(top.out_f, k * kFW, kFW), kFW), due.winner.f[static_cast<std::size_t>(k)]) << k;
+      EXPECT_EQ(sign_extend(static_cast<UInt128>(bits_of(top.out_f, k * kFW, kFW)), kFW), due.winner.f[static_cast<std::size_t>(k)]) << k;
     EXPECT_EQ(static_cast<std::int64_t>(top.out_s), due.winner.s);
     EXPECT_EQ(sign_extend(get(top.out_e), kExpW), due.e);
   };

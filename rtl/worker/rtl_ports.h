@@ -82,4 +82,32 @@ inline std::string to_string(UInt128 v) {
   return s;
 }
 
+// Bits [lo, lo + width) of a port of any width, width <= 64: set to v's low bits, or read (unsigned).
+template <std::size_t Words>
+void set_bits(VlWide<Words>& port, int lo, int width, std::int64_t v) {
+  for (int b = 0; b < width; ++b) {
+    const auto at = static_cast<std::size_t>(lo + b);
+    const EData bit = static_cast<EData>((static_cast<std::uint64_t>(v) >> b) & 1u) << (at % 32);
+    port[at / 32] = (port[at / 32] & ~(EData{1} << (at % 32))) | bit;
+  }
+}
+template <class Port>
+void set_bits(Port& port, int lo, int width, std::int64_t v) {
+  const UInt128 m = ((UInt128{1} << width) - 1) << lo;
+  put(port, (get(port) & ~m) | ((static_cast<UInt128>(static_cast<std::uint64_t>(v)) << lo) & m));
+}
+template <std::size_t Words>
+std::int64_t bits_of(const VlWide<Words>& port, int lo, int width) {
+  std::uint64_t v = 0;
+  for (int b = 0; b < width; ++b) {
+    const auto at = static_cast<std::size_t>(lo + b);
+    v |= static_cast<std::uint64_t>((port[at / 32] >> (at % 32)) & 1u) << b;
+  }
+  return static_cast<std::int64_t>(v);
+}
+template <class Port>
+std::int64_t bits_of(const Port& port, int lo, int width) {
+  return static_cast<std::int64_t>((get(port) >> lo) & ((UInt128{1} << width) - 1));
+}
+
 }  // namespace tripsitter::rtl
