@@ -135,7 +135,9 @@ module ts_receiver #(
         .idle(source_idle)
     );
     // The spheres' records go on to the commit's checks and scene memory, the nodes' only to the hierarchy's check.
-    assign rec_valid = frame_rec_valid && !rec_node;
+    // (Without hierarchies there are no nodes: the record valid goes straight on, no gate on the path to scene
+    // memory's write.)
+    assign rec_valid = HIERARCHY != 0 ? frame_rec_valid && !rec_node : frame_rec_valid;
     assign rec_ior = rec_links[15:0];  // a sphere record's last field
     if (HIERARCHY != 0) begin : g_hierarchy
       // An intact frame's verdict waits for its hierarchy's check (a frame without one passes it at once): the
