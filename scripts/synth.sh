@@ -11,7 +11,8 @@
 #                                          netlist)
 #   scripts/synth.sh table [PRESET ...]    every block of each preset (default: wide, board-2023 and artix), written
 #                                          to rtl/synth_table.tsv, the table src/tripsitter/device/resources_test.cpp
-#                                          holds the ledger (resources.h) to
+#                                          holds the ledger (resources.h) to; the other presets' rows are kept as
+#                                          they are, each preset with the RTL version it was synthesised from
 #   scripts/synth.sh arty [standalone|spi] the Arty A7-100T's board top (rtl/boards/arty_a7/ts_arty_top.sv: the artix
 #                                          device with 9 sphere units) with its ROM host and the ROM image checked in
 #                                          beside it (standalone, the default) or with the microcontroller's SPI on a
@@ -323,25 +324,41 @@ case "${1:-}" in
     ((${#presets[@]})) || presets=(wide board-2023 artix)
     for p in "${presets[@]}"; do preset_params "$p" >/dev/null || usage; done
     echo "synthesising every block of ${presets[*]} (yosys synth_xilinx -family xc7; logs in $out/) ..." >&2
-    rows=""
+    declare -A prows pparams prtl
     for p in "${presets[@]}"; do
       n=$(preset_workers "$p")
       synth "$p" "$n"
-      rows+=$(blocks "$p" "$out/$p-n$n.stat")$'\n'
+      prows[$p]=$(blocks "$p" "$out/$p-n$n.stat")$'\n'
+      pparams[$p]="# params $p $(echo N="$n" $(preset_params "$p"))"
+      prtl[$p]="# RTL of $p: $(rtl_version)"
     done
+    # The presets not synthesised this time keep their rows, parameters and RTL version (a table written before
+    # versions were kept per preset has one "# RTL:" line for all).
+    all=(wide board-2023 artix)
+    for q in "${all[@]}"; do
+      [ -n "${prows[$q]:-}" ] || [ ! -f "$table_file" ] || {
+        kept=$(awk -F'\t' -v q="$q" '$1 == q' "$table_file")
+        [ -z "$kept" ] && continue
+        prows[$q]=$kept$'\n'
+        pparams[$q]=$(grep "^# params $q " "$table_file" || true)
+        prtl[$q]=$(grep "^# RTL of $q: " "$table_file" || sed -n "s/^# RTL: /# RTL of $q: /p" "$table_file")
+      }
+    done
+    rows=""
+    for q in "${all[@]}"; do rows+=${prows[$q]:-}; done
     {
       echo "# What Yosys's synth_xilinx -family xc7 builds of each block of a preset's top (rtl/: ts_device, and"
       echo "# ts_artix_device for artix), per instance, as the preset configures it."
       echo "# Regenerate with: scripts/synth.sh table   ($(yosys -V))"
-      echo "# RTL: $(rtl_version)"
+      for q in "${all[@]}"; do [ -z "${prtl[$q]:-}" ] || echo "${prtl[$q]}"; done
       echo "# Blocks: scripts/synth.sh's header; the ledger (src/tripsitter/device/resources.h, rtl_blocks) is held to"
       echo "# this table within 10% (DSP48E1, LUTs + LUT RAM, RAMB18) by src/tripsitter/device/resources_test.cpp."
       echo "# LUTs: LUT1..LUT6 (INV not counted); lutram: LUTs as memory (LUT RAM, shift registers); ramb18: a RAMB36 is 2."
-      for p in "${presets[@]}"; do echo "# params $p $(echo N="$(preset_workers "$p")" $(preset_params "$p"))"; done
+      for q in "${all[@]}"; do [ -z "${pparams[$q]:-}" ] || echo "${pparams[$q]}"; done
       printf "# preset\tblock\tinstances\tdsp48e1\tluts\tlutram\tffs\tramb18\tcarry4\n"
       printf "%s" "$rows"
     } >"$table_file"
-    printf "%s" "$rows" | print_blocks
+    for p in "${presets[@]}"; do printf "%s" "${prows[$p]}"; done | print_blocks
     echo "written: $table_file ($((SECONDS - start_time)) s)" >&2
     ;;
   arty)
