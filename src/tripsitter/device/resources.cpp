@@ -875,13 +875,14 @@ std::vector<RtlBlock> artix_blocks(const DevicePreset& p, int wire) {
   // ts_artix_device's own: the line's events decoded a cycle ahead (its last two cycles; whether this line and the
   // next work and build) and the row built, the directions' feed to their unit and slot, and the colours written in
   // the window (an adder tree over the units). Per unit: its direction-write decode and its share of the adder tree,
-  // 7 LUTs, calibrated on Yosys 0.23's mapping of 9 units (the table's device row: 118 LUTs, most of them LUT2).
+  // 5 LUTs, calibrated on Yosys 0.23's mapping of 9 units (the table's device row: 100 LUTs, most of them LUT2; it
+  // was 118 while the world's sphere count left the block through a 9-bit gate, now the count register's reset).
   {
     RtlBlock b = named("device");
     const int unit_w = n > 1 ? clog2(n) : 1;
     b.luts += 2 * 2 + 2 * 8 + 2 + mux(9, 3) + 2;
     b.luts += adder(10) + unit_w + w.slot_w + equal(unit_w);
-    b.luts += n * (equal(unit_w) + 5);
+    b.luts += n * (equal(unit_w) + 3);
     out.push_back(b);
   }
   return out;
