@@ -49,6 +49,8 @@ device::DevicePreset agreement_preset(const device::DevicePreset& base, int spp,
   p.path->spp = spp;
   p.path->depth = depth;
   p.workers = 640;  // a pixel a worker (a unit a column): none late (the count changes nothing else; path_test.cpp)
+  // and a bounce stage each (640 units sharing one would each have a cycle of it in 640).
+  if (p.units) p.units->shared_bounce = false;
   return p;
 }
 

@@ -190,15 +190,16 @@ TEST(ArtixSchedule, AReflectedRayWaitsWhileTheUnitTakesItsNextPixel) {
   EXPECT_EQ(finish[6], 62);
 }
 
-// The artix path preset's line: a column's samples are chains of their own, a bounce waits for the scatter, and a
-// converged pixel takes no issue slot. One unit per two columns, 10 spheres, the artix path preset's latencies
-// (hit 40, scatter 69, colour 32).
+// The artix path preset's line: a column's samples are chains of their own, a bounce waits for the bounce stage,
+// and a converged pixel takes no issue slot. One unit per two columns, 10 spheres, the artix path preset's
+// latencies (hit 40, bounce stage 69, colour 16), each unit with a bounce stage of its own.
 TEST(ArtixSchedule, SamplesAreChainsAndAConvergedPixelTakesNoSlot) {
   DevicePreset p = artix_path_preset();
   p.workers = 320;
+  p.units->shared_bounce = false;
   ASSERT_EQ(p.units->hit_latency, 40);
   ASSERT_EQ(p.units->reflect_latency, 69);
-  ASSERT_EQ(p.units->shade_latency, 32);
+  ASSERT_EQ(p.units->shade_latency, 16);
   using Pass = artix::LineChains::Pass;
   artix::LineChains work;
   const auto chain = [&](std::initializer_list<Pass> passes) {
@@ -207,46 +208,79 @@ TEST(ArtixSchedule, SamplesAreChainsAndAConvergedPixelTakesNoSlot) {
   };
   for (int c = 0; c < kLineWidth; ++c) {
     work.start.push_back(static_cast<int>(work.chain_start.size()));
-    if (c == 5) {  // two samples: one bounces once
-      chain({{10, 0}, {10, 69}});
-      chain({{10, 0}});
+    if (c == 5) {  // two samples: one bounces once, both then escape
+      chain({{10, 0, true}, {10, 0, true}});
+      chain({{10, 0, true}});
     }
-    if (c == 325 || c == 326) chain({{10, 0}});  // a sample that meets nothing
+    if (c == 325 || c == 326) chain({{10, 0, true}});  // a sample that meets nothing
   }
   work.start.push_back(static_cast<int>(work.chain_start.size()));
   work.chain_start.push_back(static_cast<int>(work.passes.size()));
   const auto finish = artix::unit_finish_cycles(p, work);
   // Unit 5: column 5's first sample issues [0, 10), its hit is known at 50 and its bounce waits from 119; its
-  // second sample issues [10, 20), known at 60; column 325 issues [20, 30), known at 70, done at 102; the bounce
-  // issues [119, 129), known at 169: column 5 is done at 201, after both its samples.
-  EXPECT_EQ(finish[325], 102);
-  EXPECT_EQ(finish[5], 201);
-  // Unit 6: column 6 traces nothing (converged), shown 32 cycles after the unit reaches it; 326 issues [0, 10).
-  EXPECT_EQ(finish[6], 32);
-  EXPECT_EQ(finish[326], 82);
+  // second sample issues [10, 20), known at 60, its light out at 129; column 325 issues [20, 30), known at 70,
+  // light at 139, done at 155; the bounce issues [119, 129), known at 169, light at 238: column 5 is done at 254,
+  // after both its samples.
+  EXPECT_EQ(finish[325], 155);
+  EXPECT_EQ(finish[5], 254);
+  // Unit 6: column 6 traces nothing (converged), shown 16 cycles after the unit reaches it; 326 issues [0, 10).
+  EXPECT_EQ(finish[6], 16);
+  EXPECT_EQ(finish[326], 135);
 }
 
 // A bounce that walks the hierarchy is a pass a level: the next level joins the queue as soon as the previous
-// level's hits are known (no scatter between), and a level known earlier goes before a bounce queued earlier.
-TEST(ArtixSchedule, AWalksNextLevelFollowsItsHitsWithoutTheScatter) {
+// level's hits are known (no bounce stage between), and a level known earlier goes before a bounce queued earlier.
+TEST(ArtixSchedule, AWalksNextLevelFollowsItsHitsWithoutTheBounceStage) {
   DevicePreset p = artix_path_preset();
   p.workers = 320;
+  p.units->shared_bounce = false;
   using Pass = artix::LineChains::Pass;
   artix::LineChains work;
   for (int c = 0; c < kLineWidth; ++c) {
     work.start.push_back(static_cast<int>(work.chain_start.size()));
     work.chain_start.push_back(static_cast<int>(work.passes.size()));
-    work.passes.push_back({4, 0});
-    if (c == 5) work.passes.insert(work.passes.end(), {Pass{9, 69, 0}, Pass{16, 0, 1}});  // bounds, then spheres
+    work.passes.push_back({4, 0, true});
+    if (c == 5) work.passes.insert(work.passes.end(), {Pass{9, 0, false}, Pass{16, 1, true}});  // bounds, spheres
   }
   work.start.push_back(static_cast<int>(work.chain_start.size()));
   work.chain_start.push_back(static_cast<int>(work.passes.size()));
   const auto finish = artix::unit_finish_cycles(p, work);
-  // Unit 5: column 5's camera ray issues [0, 4), known at 44; column 325 issues [4, 8), done at 48 + 32 = 80. The
-  // bounce's bounds wait from 113 and issue [113, 122), known at 162; its spheres' level reads its first node in
-  // 162 (the walk's lead) and issues [163, 179), known at 219: done at 251.
-  EXPECT_EQ(finish[325], 80);
-  EXPECT_EQ(finish[5], 251);
+  // Unit 5: column 5's camera ray issues [0, 4), known at 44; column 325 issues [4, 8), known at 48, light at 117,
+  // done at 133. The bounce's bounds wait from 113 and issue [113, 122), known at 162; its spheres' level reads its
+  // first node in 162 (the walk's lead) and issues [163, 179), known at 219, light at 288: done at 304.
+  EXPECT_EQ(finish[325], 133);
+  EXPECT_EQ(finish[5], 304);
+}
+
+// The units share one bounce stage: unit u's hits enter it only in the line's cycles c = u (mod N), one a cycle,
+// in the order they are known; a cut path's hit does not enter it.
+TEST(ArtixSchedule, TheSharedBounceStageTakesAUnitsHitsInItsOwnCycles) {
+  DevicePreset p = artix_path_preset();
+  p.workers = 8;  // unit 1's cycles at the stage: 1, 9, 17, ..., 41, 49, 57, 65, 73
+  ASSERT_TRUE(p.units->shared_bounce);
+  using Pass = artix::LineChains::Pass;
+  artix::LineChains work;
+  for (int c = 0; c < kLineWidth; ++c) {
+    work.start.push_back(static_cast<int>(work.chain_start.size()));
+    if (c == 25) {  // a path cut at its first hit
+      work.chain_start.push_back(static_cast<int>(work.passes.size()));
+      work.passes.push_back(Pass{3, 0, false});
+    } else if (c == 1 || c == 9 || c == 17 || c == 33) {  // a camera ray that escapes
+      work.chain_start.push_back(static_cast<int>(work.passes.size()));
+      work.passes.push_back(Pass{3, 0, true});
+    }
+  }
+  work.start.push_back(static_cast<int>(work.chain_start.size()));
+  work.chain_start.push_back(static_cast<int>(work.passes.size()));
+  const auto finish = artix::unit_finish_cycles(p, work);
+  // Unit 1's camera rays issue [0, 3), [3, 6), [6, 9), [9, 12) (the cut, column 25), [12, 15): known at 43, 46, 49,
+  // 52 and 55. Column 1's enters at 49, column 9's at 57 (49 is taken), column 17's at 65 although it was known in
+  // a cycle of the unit's (49), column 33's at 73 (the cut took no cycle of the stage); each colour 69 + 16 later.
+  EXPECT_EQ(finish[1], 49 + 85);
+  EXPECT_EQ(finish[9], 57 + 85);
+  EXPECT_EQ(finish[17], 65 + 85);
+  EXPECT_EQ(finish[25], 52 + 16);
+  EXPECT_EQ(finish[33], 73 + 85);
 }
 
 TEST(ArtixSchedule, AHeavyLineIsLateFromTheLeadOn) {

@@ -194,16 +194,17 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
     int pass;            // index into work.passes
     bool before(const Waiting& o) const { return known != o.known ? known < o.known : order < o.order; }
   };
-  // The queue as one FIFO per wait (a walk's next levels, a path's bounces): passes end in the order they issue, so
-  // each FIFO is in the order known, and the pass known first is at the front of one of them.
+  // The queue as two FIFOs, passes after the bounce stage and a walk's next levels: passes end in the order they
+  // issue and enter the stage in that order, so each FIFO is in the order known, and the pass known first is at
+  // the front of one of them.
   struct Fifo {
-    int wait = 0;
     std::vector<Waiting> passes;  // passes[head ..] wait; the ones before have issued
     std::size_t head = 0;
     bool empty() const { return head == passes.size(); }
     const Waiting& front() const { return passes[head]; }
   };
-  thread_local std::vector<Fifo> fifos;  // kept from line to line for their buffers
+  thread_local std::array<Fifo, 2> fifos;  // kept from line to line for their buffers
+  const std::int64_t period = u.shared_bounce ? preset.workers : 1;  // a unit's cycles at the bounce stage
   for (int unit = 0; unit < preset.workers; ++unit) {
     for (Fifo& f : fifos) {
       f.passes.clear();
@@ -216,10 +217,13 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
         if (!f.empty() && (best == nullptr || f.front().before(best->front()))) best = &f;
       return best;
     };
-    const auto push = [&](int wait, const Waiting& w) {
-      auto f = std::find_if(fifos.begin(), fifos.end(), [&](const Fifo& x) { return x.wait == wait; });
-      if (f == fifos.end()) f = fifos.insert(fifos.end(), Fifo{wait, {}, 0});
-      f->passes.push_back(w);
+    // The unit's first cycle at the bounce stage from `known` on that no earlier hit took.
+    std::int64_t stage_free = 0;
+    const auto enter_stage = [&](std::int64_t known) {
+      std::int64_t c = std::max(known, stage_free);
+      c += ((unit - c) % period + period) % period;
+      stage_free = c + 1;
+      return c;
     };
     std::int64_t cycle = 0;  // the issue port is free from this cycle
     int next_col = unit;
@@ -249,11 +253,12 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
       } else {
         break;
       }
-      const auto p = static_cast<std::size_t>(job.pass);
-      cycle += work.passes[p].lead + std::max<std::int64_t>(u.min_pass, work.passes[p].tests);
-      const std::int64_t known = cycle + u.hit_latency;
+      const LineChains::Pass& pass = work.passes[static_cast<std::size_t>(job.pass)];
+      cycle += pass.lead + std::max<std::int64_t>(u.min_pass, pass.tests);
+      std::int64_t known = cycle + u.hit_latency;
+      if (pass.bounce) known = enter_stage(known) + u.reflect_latency;
       if (job.pass + 1 < work.chain_start[static_cast<std::size_t>(job.chain) + 1])
-        push(work.passes[p + 1].wait, {known + work.passes[p + 1].wait, queued++, job.col, job.chain, job.pass + 1});
+        fifos[pass.bounce ? 0 : 1].passes.push_back({known, queued++, job.col, job.chain, job.pass + 1});
       else
         finish[static_cast<std::size_t>(job.col)] = std::max(finish[static_cast<std::size_t>(job.col)], known + u.shade_latency);
     }
@@ -271,9 +276,9 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::in
   for (std::size_t c = 0; c < kLineWidth; ++c) {
     work.start[c] = static_cast<int>(c);
     work.chain_start.push_back(static_cast<int>(work.passes.size()));
-    work.passes.push_back({camera_tests[c], 0});
+    work.passes.push_back({camera_tests[c], 0, pixels[c].bounces > 0});
     for (int k = 0; k < pixels[c].bounces; ++k)
-      work.passes.push_back({static_cast<int>(spheres), preset.units->reflect_latency});
+      work.passes.push_back({static_cast<int>(spheres), 0, k + 1 < pixels[c].bounces});
   }
   work.start[kLineWidth] = kLineWidth;
   work.chain_start.push_back(static_cast<int>(work.passes.size()));
@@ -342,7 +347,7 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
   std::array<PathPixel, kLineWidth> pixels{};
   const bool walk = !world.nodes.empty();
   const auto all_spheres = static_cast<int>(spheres.size());
-  const int reflect_latency = preset.units->reflect_latency, walk_lead = preset.units->walk_lead;
+  const int walk_lead = preset.units->walk_lead;
   // The line's chains, in buffers each thread keeps from line to line.
   thread_local LineChains work;
   work.start.clear();
@@ -354,14 +359,16 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
     const std::span<const int> list = tiles.list(col / tile_columns);
     work.start.push_back(static_cast<int>(work.chain_start.size()));
     const auto closest = [&](const PathUnitRay& path) {
+      // A ray's last pass enters the bounce stage (its bounce, or its escape to the sky) unless the path is cut
+      // there: the sample's trace says so after it (below).
       if (path.from < 0) {  // the camera's ray: its tile's list is what the units test
-        work.passes.push_back({static_cast<int>(list.size()), 0});
+        work.passes.push_back({static_cast<int>(list.size()), 0, true});
         const Hit near = fine ? fine->closest(path.ray, spheres, col, path.from)
                               : closest_hit(path.ray, spheres, path.from);
         return with_far_side(path, near, spheres);
       }
       if (!walk) {
-        work.passes.push_back({all_spheres, reflect_latency});
+        work.passes.push_back({all_spheres, 0, true});
         const Hit near = search == Search::kAll ? closest_hit(path.ray, spheres, path.from)
                                                 : closest_hit(path.ray, spheres, world.balls, path.from);
         return with_far_side(path, near, spheres);
@@ -371,8 +378,9 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
       // later level first reads its first node's record (walk_lead).
       levels.clear();
       const Hit near = walk_closest_hit(path.ray, world, path.from, levels);
-      work.passes.push_back({levels[0] + (path.into ? 1 : 0), reflect_latency, 0});
-      for (std::size_t k = 1; k < levels.size(); ++k) work.passes.push_back({levels[k], 0, walk_lead});
+      work.passes.push_back({levels[0] + (path.into ? 1 : 0), 0, false});
+      for (std::size_t k = 1; k < levels.size(); ++k) work.passes.push_back({levels[k], walk_lead, false});
+      work.passes.back().bounce = true;
       return with_far_side(path, near, spheres);
     };
     // Made in its place in the line's array (a new-expression from the returned value elides the copy, which would
@@ -380,7 +388,11 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
     ::new (static_cast<void*>(&pixels[static_cast<std::size_t>(col)]))
         PathPixel(path_pixel(path_arith(), col, row, memory[static_cast<std::size_t>(col)], frame, [&](PathRng& rng) {
           work.chain_start.push_back(static_cast<int>(work.passes.size()));
-          return trace_path_sample(col, row, spheres, frame.surfaces, frame.depth, rng, counters, closest);
+          const auto cut = counters.cut;
+          const PathSample sample =
+              trace_path_sample(col, row, spheres, frame.surfaces, frame.depth, rng, counters, closest);
+          if (counters.cut != cut) work.passes.back().bounce = false;  // the cut's hit ends the path
+          return sample;
         }));
   }
   work.start.push_back(static_cast<int>(work.chain_start.size()));

@@ -11,7 +11,8 @@
 //
 // Schedule. See DeviceUnits (preset.h). A pass of a ray testing n spheres keeps its unit's issue port for
 // max(n, min_pass) cycles; its closest hit is known hit_latency cycles after its last pair; a reflected ray
-// joins the unit's queue reflect_latency cycles after that, and a pixel's colour is in the line buffer
+// joins the unit's queue reflect_latency cycles after that (unit_finish_cycles: a shared bounce stage may delay
+// the hit's entry), and a pixel's colour is in the line buffer
 // shade_latency cycles after its last pass's hit is known. When its port is free the unit takes the oldest
 // waiting reflected ray that is known, else its next camera ray, else it waits for the oldest reflected ray.
 // A pixel whose colour is not in the line buffer by the lead time (3200 cycles) is black, as on the board.
@@ -109,10 +110,11 @@ Hit closest_hit(const UnitRay& ray, std::span<const UnitSphere> spheres, std::sp
 // .. chain_start[k + 1]), at least one, the first the camera ray's.
 struct LineChains {
   struct Pass {
-    int tests = 0;  // the slots it issues (each a pair, but the sphere the ray leaves: its slot is spent)
-    int wait = 0;   // cycles from the previous pass's hit known to this pass joining the queue (a bounce's
-                    // reflect_latency, 0 for the next level of a walk; the chain's first: unused)
-    int lead = 0;   // cycles it holds the port before its first slot (a walk's later level: walk_lead)
+    int tests = 0;       // the slots it issues (each a pair, but the sphere the ray leaves: its slot is spent)
+    int lead = 0;        // cycles it holds the port before its first slot (a walk's later level: walk_lead)
+    bool bounce = false; // its hit enters the bounce stage: a reflection, a path's bounce or its escape to the sky
+                         // (the last level of a walk, unless the path is cut there); the next pass of its chain, or
+                         // the chain's end, follows the stage (otherwise: the hit, as a walk's next level does)
   };
   std::vector<int> start;        // kLineWidth + 1 entries
   std::vector<int> chain_start;  // one entry a chain and one more
@@ -121,10 +123,13 @@ struct LineChains {
 
 // The units' schedule of a line's chains: when each column's colour reaches the line buffer, in cycles from the
 // start of the line's work. A pass keeps its unit's issue port lead + max(tests, min_pass) cycles and its hit is known
-// hit_latency after; the next pass of its chain joins the unit's queue `wait` cycles later. A unit takes the
-// queued pass known first (ties in the order queued) when one is known, else its next chain (its columns in
-// order, a column's chains in order), else it waits for the queue. A column's colour is there shade_latency after
-// the last hit of its last chain (a column with no chains: shade_latency after the unit reaches it).
+// hit_latency after. A bounce pass's hit then enters the bounce stage: the cycle it is known, or with
+// shared_bounce the unit's first own cycle from then on that no earlier hit of the unit took; the next pass of its
+// chain joins the unit's queue reflect_latency cycles after it enters (the next pass of another: when the hit is
+// known). A unit takes the queued pass known first (ties in the order queued) when one is known, else its next
+// chain (its columns in order, a column's chains in order), else it waits for the queue. A column's colour is there
+// shade_latency after the end of its last chain to end: its last hit known, or the stage's output for a bounce pass
+// (a column with no chains: shade_latency after the unit reaches it).
 std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const LineChains& work);
 // The mirror model's line: column c one chain of 1 + pixels[c].bounces passes.
 std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres,

@@ -174,11 +174,13 @@ DevicePreset artix_path_preset() {
       "on 9 sphere units shared by a line's rays and bounces (the model; its RTL is not written yet)";
   p.max_bounces = 0;
   p.path = DevicePath{};
-  // A bounce joins its unit's queue when the shared scatter unit has its direction: the path preset's slowest
-  // scatter (a dielectric's, 69 cycles) for every bounce; a colour is in the line buffer after the sky or the cut,
-  // the accumulation and the display (16 + 8 + 8).
+  // One bounce stage for all units (hit point, scatter, normalisation, the light's book-keeping and the sky's):
+  // a hit that bounces, or a ray that escapes, enters it in its unit's cycle and comes out the path preset's
+  // slowest scatter later (a dielectric's, 69 cycles), as the next ray or as the sample's light; a colour is in
+  // the line buffer after the light (or the cut's hit), the accumulation and the display (8 + 8).
+  p.units->shared_bounce = true;
   p.units->reflect_latency = p.costs.scatter_dielectric;
-  p.units->shade_latency = p.costs.sky + p.costs.accumulate + 8;
+  p.units->shade_latency = p.costs.accumulate + 8;
   return p;
 }
 

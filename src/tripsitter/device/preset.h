@@ -78,11 +78,18 @@ struct DeviceUnits {
   int tile_columns = 32;     // camera rays are culled per tile of this many columns (a divisor of 640)
   int min_pass = 3;          // cycles a pass takes at least (the shading block takes one channel a cycle)
   int hit_latency = 40;      // cycles from a pass's last pair issued to its closest hit known
-  int reflect_latency = 20;  // from a hit known to the reflected ray waiting in the unit's queue
-  int shade_latency = 12;    // from the last hit known to the colour in the line buffer
+  // The bounce stage: a pass's hit that reflects (or, artix-path, bounces or escapes to the sky) enters it, and
+  // the next ray (or the sample's light) comes out reflect_latency cycles later.
+  int reflect_latency = 20;  // from a hit entering the bounce stage to the reflected ray waiting in the unit's queue
+  int shade_latency = 12;    // from the last hit known (or the light out of the bounce stage) to the colour in the
+                             // line buffer
   // Cycles a walk's later level (artix-path) holds the issue port before its first slot: the record of its first
   // node read (the walker keeps that node's index in a register).
   int walk_lead = 1;
+  // The units share one bounce stage (artix-path: it is most of the DSP48E1), each entering it only in its own
+  // cycles: unit u in the line's cycles c with c mod N = u (N units), one hit each, in the order its hits are known.
+  // Otherwise (artix) each unit has its own and a hit enters it the cycle it is known.
+  bool shared_bounce = false;
   bool operator==(const DeviceUnits&) const = default;
 };
 
