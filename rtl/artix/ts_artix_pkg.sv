@@ -26,6 +26,8 @@ package ts_artix_pkg;
   localparam int ReflectLatency = 20;  // from a hit known to the reflected ray in its unit's queue
   localparam int ShadeLatency = 12;    // from the last hit known to the colour in the line buffer
   localparam int WalkLead = 1;         // artix-path: cycles a walk's later level holds the port before its first slot
+  localparam int WalkWait = 1;         // artix-path: from a walk level's hits known to its next level in the queue
+  localparam int Paths = 32;           // artix-path: paths a unit holds at once
 
   // ---- The arithmetic (artix_kernel.h) ------------------------------------------------------------------------
   localparam int DirFrac = 17;         // unit directions and normals: times 2^17

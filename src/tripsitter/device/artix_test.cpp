@@ -246,10 +246,12 @@ TEST(ArtixSchedule, AWalksNextLevelFollowsItsHitsWithoutTheBounceStage) {
   work.chain_start.push_back(static_cast<int>(work.passes.size()));
   const auto finish = artix::unit_finish_cycles(p, work);
   // Unit 5: column 5's camera ray issues [0, 4), known at 44; column 325 issues [4, 8), known at 48, light at 117,
-  // done at 133. The bounce's bounds wait from 113 and issue [113, 122), known at 162; its spheres' level reads its
-  // first node in 162 (the walk's lead) and issues [163, 179), known at 219, light at 288: done at 304.
+  // done at 133. The bounce's bounds wait from 113 and issue [113, 122), known at 162; its spheres' level waits
+  // from 163 (walk_wait), reads its first node then (the walk's lead) and issues [164, 180), known at 220, light at
+  // 289: done at 305.
+  ASSERT_EQ(p.units->walk_wait, 1);
   EXPECT_EQ(finish[325], 133);
-  EXPECT_EQ(finish[5], 304);
+  EXPECT_EQ(finish[5], 305);
 }
 
 // The units share one bounce stage: unit u's hits enter it only in the line's cycles c = u (mod N), one a cycle,
@@ -281,6 +283,37 @@ TEST(ArtixSchedule, TheSharedBounceStageTakesAUnitsHitsInItsOwnCycles) {
   EXPECT_EQ(finish[17], 65 + 85);
   EXPECT_EQ(finish[25], 52 + 16);
   EXPECT_EQ(finish[33], 73 + 85);
+}
+
+// A unit holds at most `paths` paths: a camera ray waits for one to end, after the bounce stage's light or the
+// cycle after a cut hit. One path a unit here, each unit with a stage of its own.
+TEST(ArtixSchedule, ACameraRayWaitsForAPathToEndWhenTheUnitHoldsItsPaths) {
+  DevicePreset p = artix_path_preset();
+  p.workers = 320;
+  p.units->shared_bounce = false;
+  ASSERT_EQ(p.units->paths, 32);
+  p.units->paths = 1;
+  using Pass = artix::LineChains::Pass;
+  artix::LineChains work;
+  for (int c = 0; c < kLineWidth; ++c) {
+    work.start.push_back(static_cast<int>(work.chain_start.size()));
+    if (c == 5 || c == 6 || c == 325 || c == 326) {
+      work.chain_start.push_back(static_cast<int>(work.passes.size()));
+      if (c == 5) work.passes.insert(work.passes.end(), {Pass{10, 0, true}, Pass{10, 0, true}});  // a bounce
+      else work.passes.push_back(Pass{10, 0, c != 6});  // column 6: cut at its first hit
+    }
+  }
+  work.start.push_back(static_cast<int>(work.chain_start.size()));
+  work.chain_start.push_back(static_cast<int>(work.passes.size()));
+  const auto finish = artix::unit_finish_cycles(p, work);
+  // Unit 5: column 5 issues [0, 10), known at 50, its bounce waits from 119 and issues [119, 129), known at 169,
+  // light at 238: over. Column 325 then issues [238, 248), known at 288, light at 357.
+  EXPECT_EQ(finish[5], 238 + 16);
+  EXPECT_EQ(finish[325], 357 + 16);
+  // Unit 6: column 6 issues [0, 10), cut at 50: held until 51, when column 326 issues [51, 61), known at 101, light
+  // at 170.
+  EXPECT_EQ(finish[6], 50 + 16);
+  EXPECT_EQ(finish[326], 170 + 16);
 }
 
 TEST(ArtixSchedule, AHeavyLineIsLateFromTheLeadOn) {

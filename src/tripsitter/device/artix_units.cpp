@@ -204,6 +204,7 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
     const Waiting& front() const { return passes[head]; }
   };
   thread_local std::array<Fifo, 2> fifos;  // kept from line to line for their buffers
+  thread_local std::array<std::vector<std::int64_t>, 2> frees;
   const std::int64_t period = u.shared_bounce ? preset.workers : 1;  // a unit's cycles at the bounce stage
   for (int unit = 0; unit < preset.workers; ++unit) {
     for (Fifo& f : fifos) {
@@ -225,6 +226,23 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
       stage_free = c + 1;
       return c;
     };
+    // The paths the unit holds (DeviceUnits::paths): those taken, less those over by `cycle`; the cycles from which
+    // each path over is no longer held, in two runs each in order (paths ended by the bounce stage, and cut ones).
+    std::int64_t taken = 0;
+    std::array<std::vector<std::int64_t>, 2>& free_from = frees;
+    std::array<std::size_t, 2> freed{};
+    for (auto& f : free_from) f.clear();
+    const auto held = [&](std::int64_t at) {
+      for (std::size_t k = 0; k < 2; ++k)
+        while (freed[k] < free_from[k].size() && free_from[k][freed[k]] <= at) ++freed[k];
+      return taken - static_cast<std::int64_t>(freed[0] + freed[1]);
+    };
+    const auto next_free = [&]() {  // the first cycle from which a path held now is not, -1 if none is known
+      std::int64_t t = -1;
+      for (std::size_t k = 0; k < 2; ++k)
+        if (freed[k] < free_from[k].size() && (t < 0 || free_from[k][freed[k]] < t)) t = free_from[k][freed[k]];
+      return t;
+    };
     std::int64_t cycle = 0;  // the issue port is free from this cycle
     int next_col = unit;
     int next_chain = work.start[static_cast<std::size_t>(unit)];
@@ -237,19 +255,27 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
       }
       Waiting job{};
       Fifo* const queue = first();
+      const bool camera = next_col < kLineWidth && (u.paths == 0 || held(cycle) < u.paths);
       if (queue != nullptr && queue->front().known <= cycle) {
         job = queue->front();
         ++queue->head;
-      } else if (next_col < kLineWidth) {
+      } else if (camera) {
         job = {cycle, 0, next_col, next_chain, work.chain_start[static_cast<std::size_t>(next_chain)]};
+        ++taken;
         if (++next_chain == work.start[static_cast<std::size_t>(next_col) + 1]) {
           next_col += preset.workers;
           if (next_col < kLineWidth) next_chain = work.start[static_cast<std::size_t>(next_col)];
         }
-      } else if (queue != nullptr) {
-        job = queue->front();
-        ++queue->head;
-        cycle = job.known;
+      } else if (queue != nullptr || next_col < kLineWidth) {
+        // Wait for the queue's first pass, or for a path to be over (a camera ray waits for one).
+        std::int64_t t = queue != nullptr ? queue->front().known : -1;
+        if (next_col < kLineWidth) {
+          const std::int64_t f = next_free();  // -1 when no path's end is known yet (its passes are queued)
+          if (f >= 0 && (t < 0 || f < t)) t = f;
+        }
+        assert(t > cycle);
+        cycle = t;
+        continue;
       } else {
         break;
       }
@@ -257,10 +283,14 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
       cycle += pass.lead + std::max<std::int64_t>(u.min_pass, pass.tests);
       std::int64_t known = cycle + u.hit_latency;
       if (pass.bounce) known = enter_stage(known) + u.reflect_latency;
-      if (job.pass + 1 < work.chain_start[static_cast<std::size_t>(job.chain) + 1])
-        fifos[pass.bounce ? 0 : 1].passes.push_back({known, queued++, job.col, job.chain, job.pass + 1});
-      else
+      if (job.pass + 1 < work.chain_start[static_cast<std::size_t>(job.chain) + 1]) {
+        fifos[pass.bounce ? 0 : 1].passes.push_back(
+            {pass.bounce ? known : known + u.walk_wait, queued++, job.col, job.chain, job.pass + 1});
+      } else {
         finish[static_cast<std::size_t>(job.col)] = std::max(finish[static_cast<std::size_t>(job.col)], known + u.shade_latency);
+        // The path is over: its light is out of the bounce stage at `known`, or its cut hit known then.
+        free_from[pass.bounce ? 0 : 1].push_back(pass.bounce ? known : known + 1);
+      }
     }
   }
   return finish;
@@ -336,20 +366,18 @@ LineResult render_line(const DevicePreset& preset, const UnitWorld& world, int r
   return schedule_units(preset, static_cast<std::int64_t>(spheres.size()), pixels, tests, line);
 }
 
-LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, int row, const PathFrame& frame,
-                            std::span<AccumEntry> memory, std::span<core::Rgb444> line, PathCounters& counters,
-                            Search search) {
+void path_line_chains(const DevicePreset& preset, const UnitWorld& world, int row, const PathFrame& frame,
+                      std::span<const AccumEntry> memory, std::span<PathPixel> pixels, PathCounters& counters,
+                      Search search, LineChains& work, const RayObserver* observe) {
+  assert(memory.size() == kLineWidth && pixels.size() == kLineWidth);
   const int tile_columns = preset.units->tile_columns;
   const RowTiles tiles = row_tiles(world, row, tile_columns);
   const std::span<const UnitSphere> spheres(world.spheres);
   const std::optional<RowSearch> fine =
       search == Search::kTiles ? std::optional<RowSearch>(std::in_place, world, tiles, tile_columns) : std::nullopt;
-  std::array<PathPixel, kLineWidth> pixels{};
   const bool walk = !world.nodes.empty();
   const auto all_spheres = static_cast<int>(spheres.size());
   const int walk_lead = preset.units->walk_lead;
-  // The line's chains, in buffers each thread keeps from line to line.
-  thread_local LineChains work;
   work.start.clear();
   work.chain_start.clear();
   work.passes.clear();
@@ -358,7 +386,7 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
   for (int col = 0; col < kLineWidth; ++col) {
     const std::span<const int> list = tiles.list(col / tile_columns);
     work.start.push_back(static_cast<int>(work.chain_start.size()));
-    const auto closest = [&](const PathUnitRay& path) {
+    const auto search_hit = [&](const PathUnitRay& path) {
       // A ray's last pass enters the bounce stage (its bounce, or its escape to the sky) unless the path is cut
       // there: the sample's trace says so after it (below).
       if (path.from < 0) {  // the camera's ray: its tile's list is what the units test
@@ -383,6 +411,11 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
       work.passes.back().bounce = true;
       return with_far_side(path, near, spheres);
     };
+    const auto closest = [&](const PathUnitRay& path) {
+      const PathUnitHit hit = search_hit(path);
+      if (observe != nullptr) (*observe)(col, path, hit);
+      return hit;
+    };
     // Made in its place in the line's array (a new-expression from the returned value elides the copy, which would
     // load the pixel just stored field by field and wait for those stores).
     ::new (static_cast<void*>(&pixels[static_cast<std::size_t>(col)]))
@@ -397,6 +430,14 @@ LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, 
   }
   work.start.push_back(static_cast<int>(work.chain_start.size()));
   work.chain_start.push_back(static_cast<int>(work.passes.size()));
+}
+
+LineResult render_path_line(const DevicePreset& preset, const UnitWorld& world, int row, const PathFrame& frame,
+                            std::span<AccumEntry> memory, std::span<core::Rgb444> line, PathCounters& counters,
+                            Search search) {
+  std::array<PathPixel, kLineWidth> pixels{};
+  thread_local LineChains work;  // its buffers kept from line to line
+  path_line_chains(preset, world, row, frame, memory, pixels, counters, search, work, nullptr);
   const std::vector<std::int64_t> finish = unit_finish_cycles(preset, work);
   return apply_schedule(preset, finish, line, [&](std::size_t c, LineResult& result) {
     memory[c] = pixels[c].entry;

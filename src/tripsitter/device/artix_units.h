@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -27,6 +28,7 @@
 #include <tripsitter/core/sphere_kernel.h>
 #include <tripsitter/device/artix_batch.h>
 #include <tripsitter/device/artix_kernel.h>
+#include <tripsitter/device/artix_path.h>
 #include <tripsitter/device/ball_tree.h>
 #include <tripsitter/device/frame_memory.h>
 #include <tripsitter/device/path_kernel.h>
@@ -125,11 +127,13 @@ struct LineChains {
 // start of the line's work. A pass keeps its unit's issue port lead + max(tests, min_pass) cycles and its hit is known
 // hit_latency after. A bounce pass's hit then enters the bounce stage: the cycle it is known, or with
 // shared_bounce the unit's first own cycle from then on that no earlier hit of the unit took; the next pass of its
-// chain joins the unit's queue reflect_latency cycles after it enters (the next pass of another: when the hit is
-// known). A unit takes the queued pass known first (ties in the order queued) when one is known, else its next
-// chain (its columns in order, a column's chains in order), else it waits for the queue. A column's colour is there
-// shade_latency after the end of its last chain to end: its last hit known, or the stage's output for a bounce pass
-// (a column with no chains: shade_latency after the unit reaches it).
+// chain joins the unit's queue reflect_latency cycles after it enters (the next pass of another, a walk's next
+// level: walk_wait cycles after the hit is known). A unit takes the queued pass known first (ties in the order
+// queued) when one is known, else its next chain (its columns in order, a column's chains in order) if it holds
+// fewer than `paths` chains (a chain is held from its first pass's start to its end; 0: no limit), else it waits
+// for the queue or for a chain to end. A column's colour is there shade_latency after the end of its last chain to
+// end: its last hit known, or the stage's output for a bounce pass (a column with no chains: shade_latency after the
+// unit reaches it); a chain ends then (after the stage) or the cycle after its last hit (a cut).
 std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const LineChains& work);
 // The mirror model's line: column c one chain of 1 + pixels[c].bounces passes.
 std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres,
@@ -147,6 +151,15 @@ LineResult schedule_units(const DevicePreset& preset, std::int64_t spheres, std:
 enum class Search { kAll, kTiles };
 LineResult render_line(const DevicePreset& preset, const UnitWorld& world, int row, std::span<core::Rgb444> line,
                        Search search);
+
+// Row `row` of a path frame as the units' work (the artix path preset): each pixel's entry and samples (path_pixel
+// with artix_path.h's sample, the camera ray's search narrowed to its tile with kTiles) into `pixels`, the line's
+// chains (one a sample) into `work`, and each ray with its closest hit, in the order traced, to `observe` when
+// given (the RTL's tests follow each path with it). Adds what the units traced to `counters`.
+using RayObserver = std::function<void(int col, const PathUnitRay& ray, const PathUnitHit& hit)>;
+void path_line_chains(const DevicePreset& preset, const UnitWorld& world, int row, const PathFrame& frame,
+                      std::span<const AccumEntry> memory, std::span<PathPixel> pixels, PathCounters& counters,
+                      Search search, LineChains& work, const RayObserver* observe);
 
 // Row `row` of a path frame on the units (the artix path preset): each pixel's entry and samples (path_pixel with
 // artix_path.h's sample, the camera ray's search narrowed to its tile with kTiles), the line's chains (one a

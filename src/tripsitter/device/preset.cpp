@@ -79,7 +79,8 @@ std::optional<std::string> DevicePreset::validate() const {
   if (units) {
     if (units->tile_columns < 1 || kLineWidth % units->tile_columns != 0) return "tile columns must divide 640";
     if (units->min_pass < 1) return "a pass takes at least one cycle";
-    if (units->hit_latency < 0 || units->reflect_latency < 0 || units->shade_latency < 0 || units->walk_lead < 0)
+    if (units->hit_latency < 0 || units->reflect_latency < 0 || units->shade_latency < 0 || units->walk_lead < 0 ||
+        units->walk_wait < 0 || units->paths < 0)
       return "the units' latencies must not be negative";
     if (x.total_bits > artix::kMaxCoordinateBits || y.total_bits > artix::kMaxCoordinateBits ||
         z.total_bits > artix::kMaxCoordinateBits || radius.total_bits > artix::kMaxRadiusBits)
@@ -179,6 +180,7 @@ DevicePreset artix_path_preset() {
   // slowest scatter later (a dielectric's, 69 cycles), as the next ray or as the sample's light; a colour is in
   // the line buffer after the light (or the cut's hit), the accumulation and the display (8 + 8).
   p.units->shared_bounce = true;
+  p.units->paths = 32;
   p.units->reflect_latency = p.costs.scatter_dielectric;
   p.units->shade_latency = p.costs.accumulate + 8;
   return p;

@@ -86,10 +86,17 @@ struct DeviceUnits {
   // Cycles a walk's later level (artix-path) holds the issue port before its first slot: the record of its first
   // node read (the walker keeps that node's index in a register).
   int walk_lead = 1;
+  // Cycles from a walk level's hits known to its next level waiting in the unit's queue (artix-path: the walker's
+  // count of the bounds entered is a register, written in the cycle of the level's last report).
+  int walk_wait = 1;
   // The units share one bounce stage (artix-path: it is most of the DSP48E1), each entering it only in its own
   // cycles: unit u in the line's cycles c with c mod N = u (N units), one hit each, in the order its hits are known.
   // Otherwise (artix) each unit has its own and a hit enters it the cycle it is known.
   bool shared_bounce = false;
+  // Paths a unit holds at once (artix-path; 0: no limit): a sample's path is the unit's from its camera ray's pass
+  // to its end (its light out of the bounce stage, or the cycle after its cut hit), and the unit takes a camera ray
+  // only while it holds fewer, so that its queues and stores of paths have that many places.
+  int paths = 0;
   bool operator==(const DeviceUnits&) const = default;
 };
 

@@ -1,0 +1,359 @@
+// A sphere unit of the artix path preset as RTL (ts_path_unit.sv: the issue port, the queues of bounced rays and of
+// walks' next levels, the camera's samples, the walker and the sphere unit, each path's ray and best hit, the unit's
+// turn at the shared bounce stage) held to the model line by line: every ray's closest hit the model's
+// (artix::path_line_chains, which traces the line's samples), handed to the bounce stage in the unit's turn or cut
+// at the path's last ray, and every column's samples over when artix::unit_finish_cycles says: the light of a
+// sample that enters the stage in cycle c is out at c + reflect_latency, a cut one's at its hit, and the column's
+// colour shade_latency after its last. The test bench is the rest of the device: the camera's directions and which
+// pixels take samples (written in the line before), the tile lists, scene memory (spheres and the hierarchy's
+// bounds), node memory, and the bounce stage, which gives back each path's next ray, as the model traced it, or
+// its word that the path is over, in the cycle before reflect_latency after its hit entered. Lines run back to back, 3,200 cycles each with the window's flush at
+// its end: a column whose samples are not all over by then must be one the model finds late.
+#include <algorithm>
+#include <cstdio>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sphere_unit_draw.h"  // first: it includes verilated.h with its warnings silenced
+
+#include <Vts_path_unit.h>
+
+#include <tripsitter/device/artix_units.h>
+#include <tripsitter/device/path_kernel.h>
+#include <tripsitter/device/preset.h>
+#include <tripsitter/device/test_util.h>
+
+namespace tripsitter::rtl {
+namespace {
+
+namespace artix = device::artix;
+using sphere_unit::kDirW;
+using sphere_unit::kOriginW;
+using sphere_unit::kTdW;
+using sphere_unit::pack3;
+
+constexpr int kUnits = 9;  // the Verilated unit's N (PARAMS), the preset's
+constexpr int kLine = 3200;
+constexpr int kSampleBits = 5;  // the tag: {pixel slot, sample}
+
+// One line of the model for the unit's columns: its chains, its finish cycles, and each sample's rays with their
+// hits, in the order traced.
+struct ModelLine {
+  int row = 0;
+  artix::RowTiles tiles;
+  std::vector<std::int64_t> finish;
+  std::vector<bool> takes;                                                          // a column
+  std::vector<std::vector<std::vector<std::pair<artix::PathUnitRay, artix::PathUnitHit>>>> paths;  // [col][sample]
+};
+
+ModelLine model_line(const device::DevicePreset& p, const artix::UnitWorld& world, int row,
+                     const device::PathFrame& frame, const std::vector<device::AccumEntry>& memory) {
+  ModelLine m;
+  m.row = row;
+  m.tiles = artix::row_tiles(world, row, p.units->tile_columns);
+  m.paths.resize(device::kLineWidth);
+  artix::LineChains work;
+  std::vector<device::PathPixel> pixels(device::kLineWidth);
+  device::PathCounters counters;
+  const artix::RayObserver observe = [&](int col, const artix::PathUnitRay& ray, const artix::PathUnitHit& hit) {
+    // The sample being traced: the column's chains so far.
+    const std::size_t sample = work.chain_start.size() - 1 - static_cast<std::size_t>(work.start.back());
+    auto& samples = m.paths[static_cast<std::size_t>(col)];
+    if (samples.size() <= sample) samples.resize(sample + 1);
+    samples[sample].push_back({ray, hit});
+  };
+  artix::path_line_chains(p, world, row, frame, memory, pixels, counters, artix::Search::kAll, work, &observe);
+  m.finish = artix::unit_finish_cycles(p, work);
+  for (int c = 0; c < device::kLineWidth; ++c)
+    m.takes.push_back(work.start[static_cast<std::size_t>(c) + 1] > work.start[static_cast<std::size_t>(c)]);
+  return m;
+}
+
+struct Stats {
+  int lines = 0, columns = 0, late = 0, samples = 0, entries = 0, cuts = 0, walks = 0, far = 0, converged = 0;
+  void print(const char* what) const {
+    std::printf("%s: %d lines of a unit, %d columns (%d late, %d converged), %d samples, %d hits to the bounce stage "
+                "(%d far sides), %d cuts\n", what, lines, columns, late, converged, samples, entries, far, cuts);
+  }
+};
+
+// The unit `unit` running `lines` back to back (the first one's pixels written before its window).
+void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, const device::PathFrame& frame,
+               int unit, const std::vector<ModelLine>& lines, Stats& stats) {
+  auto t = std::make_unique<Vts_path_unit>();
+  const int reflect = p.units->reflect_latency, shade = p.units->shade_latency;
+  t->unit_id = static_cast<SData>(unit);
+  t->spheres = static_cast<SData>(world.spheres.size());
+  t->walks = !world.nodes.empty();
+  if (!world.nodes.empty()) {
+    t->root_first_sphere = static_cast<CData>(world.nodes[0].first_sphere);
+    t->root_spheres = static_cast<CData>(world.nodes[0].spheres);
+    t->root_first_child = static_cast<CData>(world.nodes[0].first_child);
+    t->root_children = static_cast<CData>(world.nodes[0].children);
+  }
+  t->depth = static_cast<CData>(frame.depth);
+  t->spp = static_cast<CData>(frame.spp);
+  t->rst = 1;
+  for (int i = 0; i < 3; ++i) rising_edge(*t);
+  t->rst = 0;
+
+  // The unit's columns, its pixel k column unit + k N, written one a cycle.
+  std::vector<int> cols;
+  for (int c = unit; c < device::kLineWidth; c += kUnits) cols.push_back(c);
+  const auto write_pixel = [&](const ModelLine& m, int k) {
+    const int col = unit + k * kUnits;
+    t->px_we = 1;
+    t->px_slot = static_cast<CData>(k);
+    t->px_takes = m.takes[static_cast<std::size_t>(col)];
+    put(t->px_d, pack3(artix::camera_direction(col, m.row), kDirW));
+  };
+  const int slots = static_cast<int>(cols.size());
+  for (int k = 0; k < slots; ++k) {
+    write_pixel(lines[0], k);
+    rising_edge(*t);
+  }
+  t->px_we = 0;
+
+  // The memories' registered reads: what was asked last cycle.
+  int tile_q = 0, pos_q = 0, mem_q = 0, node_q = 0;
+  bool bound_q = false;
+  const auto clamp = [](int i, std::size_t n) { return std::clamp(i, 0, std::max(0, static_cast<int>(n) - 1)); };
+
+  for (std::size_t l = 0; l < lines.size(); ++l) {
+    const ModelLine& m = lines[l];
+    struct Return {
+      int col, sample, ray;  // ray < 0: the path is over
+    };
+    std::multimap<std::int64_t, Return> returns;  // the bounce stage's next rays, by the cycle they come back
+    std::vector<std::vector<std::int64_t>> ends(device::kLineWidth);  // each sample's light out (or its cut's)
+    std::vector<std::vector<int>> seen(device::kLineWidth);            // rays of each sample handed on
+    for (const int c : cols) {
+      const auto n = m.paths[static_cast<std::size_t>(c)].size();
+      ends[static_cast<std::size_t>(c)].assign(n, -1);
+      seen[static_cast<std::size_t>(c)].assign(n, 0);
+    }
+    for (std::int64_t cyc = 0; cyc < kLine; ++cyc) {
+      t->start = cyc == 0;
+      t->flush = cyc == kLine - 1;
+      // The next line's pixels, one a cycle from the window's second cycle.
+      t->px_we = 0;
+      if (l + 1 < lines.size() && cyc >= 1 && cyc <= slots) write_pixel(lines[l + 1], static_cast<int>(cyc - 1));
+      // The memories.
+      const std::span<const int> list = m.tiles.list(tile_q);
+      t->tile_count = static_cast<SData>(list.size());
+      t->tile_sphere = static_cast<CData>(pos_q < static_cast<int>(list.size()) ? list[static_cast<std::size_t>(pos_q)] : 0);
+      const artix::UnitSphere& s = bound_q && !world.nodes.empty()
+                                       ? world.nodes[static_cast<std::size_t>(clamp(mem_q, world.nodes.size()))].bound
+                                       : world.spheres[static_cast<std::size_t>(clamp(mem_q, world.spheres.size()))];
+      put(t->mem_c, pack3(s.c, sphere_unit::kCoordW));
+      put(t->mem_e, static_cast<UInt128>(s.e) & 0x3f);
+      put(t->mem_r2s, static_cast<UInt128>(s.r2s));
+      if (!world.nodes.empty()) {
+        const artix::UnitNode& v = world.nodes[static_cast<std::size_t>(clamp(node_q, world.nodes.size()))];
+        t->node_first_sphere = static_cast<CData>(v.first_sphere);
+        t->node_spheres = static_cast<CData>(v.spheres);
+        t->node_first_child = static_cast<CData>(v.first_child);
+        t->node_children = static_cast<CData>(v.children);
+      }
+      // The bounce stage's next ray, or its word that a path is over, in the cycle before it is known.
+      t->ray_valid = 0;
+      t->end_valid = 0;
+      if (auto it = returns.find(cyc); it != returns.end()) {
+        const Return r = it->second;
+        returns.erase(it);
+        ASSERT_EQ(returns.count(cyc), 0u) << "two words back in one cycle";
+        if (r.ray < 0) {
+          t->end_valid = 1;
+        } else {
+          const auto& next = m.paths[static_cast<std::size_t>(r.col)][static_cast<std::size_t>(r.sample)][static_cast<std::size_t>(r.ray)].first;
+          t->ray_valid = 1;
+          put(t->ray_o, pack3(next.ray.o, kOriginW));
+          put(t->ray_d, pack3(next.ray.d, kDirW));
+          t->ray_from = static_cast<CData>(next.from);
+          t->ray_into = next.into;
+          t->ray_rays = static_cast<CData>(r.ray + 1);
+          t->ray_tag = static_cast<SData>((((r.col - unit) / kUnits) << kSampleBits) | r.sample);
+        }
+      }
+      t->clk = 0;
+      t->eval();
+
+      const auto path_of = [&](int tag, int& col, int& sample) {
+        col = unit + (tag >> kSampleBits) * kUnits;
+        sample = tag & ((1 << kSampleBits) - 1);
+        return col < device::kLineWidth && sample < static_cast<int>(m.paths[static_cast<std::size_t>(col)].size());
+      };
+      if (t->stage_valid != 0) {
+        int col = 0, sample = 0;
+        ASSERT_TRUE(path_of(t->stage_tag, col, sample)) << "a hit of no path, tag " << t->stage_tag;
+        const auto& rays = m.paths[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)];
+        const int ray = static_cast<int>(t->stage_rays) - 1;
+        ASSERT_TRUE(ray >= 0 && ray < static_cast<int>(rays.size())) << "column " << col << " sample " << sample;
+        EXPECT_EQ(seen[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)], ray) << "column " << col;
+        seen[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = ray + 1;
+        EXPECT_EQ(cyc % kUnits, unit) << "not the unit's turn";
+        const auto& [want_ray, want] = rays[static_cast<std::size_t>(ray)];
+        const std::string where = "row " + std::to_string(m.row) + " column " + std::to_string(col) + " sample " +
+                                  std::to_string(sample) + " ray " + std::to_string(ray);
+        EXPECT_EQ(get(t->stage_o), pack3(want_ray.ray.o, kOriginW)) << where;
+        EXPECT_EQ(get(t->stage_d), pack3(want_ray.ray.d, kDirW)) << where;
+        EXPECT_EQ(t->stage_hit != 0, want.index >= 0) << where;
+        if (want.index >= 0 && t->stage_hit != 0) {
+          EXPECT_EQ(static_cast<int>(t->stage_index), want.index) << where;
+          EXPECT_EQ(static_cast<std::int64_t>(sign_extend(get(t->stage_td), kTdW)), want.td) << where;
+          EXPECT_EQ(t->stage_far != 0, want.inside) << where;
+          stats.far += want.inside;
+        }
+        ++stats.entries;
+        if (ray + 1 < static_cast<int>(rays.size())) {
+          returns.insert({cyc + reflect - 1, {col, sample, ray + 1}});
+        } else {
+          returns.insert({cyc + reflect - 1, {col, sample, -1}});
+          ends[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = cyc + reflect;
+        }
+      }
+      if (t->cut_valid != 0) {
+        int col = 0, sample = 0;
+        ASSERT_TRUE(path_of(t->cut_tag, col, sample)) << "a cut of no path, tag " << t->cut_tag;
+        const auto& rays = m.paths[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)];
+        EXPECT_EQ(static_cast<int>(rays.size()), frame.depth) << "column " << col << " cut early";
+        EXPECT_GE(rays.back().second.index, 0) << "column " << col << " cut on a miss";
+        EXPECT_EQ(seen[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)], frame.depth - 1);
+        seen[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = frame.depth;
+        ends[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = cyc;
+        ++stats.cuts;
+      }
+      tile_q = t->tile;
+      pos_q = t->tile_pos;
+      mem_q = t->mem_addr;
+      bound_q = t->mem_bound != 0;
+      node_q = t->node_addr;
+      rising_edge(*t);
+    }
+    // Each column of the unit: all its samples over, when the model says its colour is there; or late.
+    for (const int c : cols) {
+      const auto& e = ends[static_cast<std::size_t>(c)];
+      const std::int64_t want = m.finish[static_cast<std::size_t>(c)];
+      if (!m.takes[static_cast<std::size_t>(c)]) {
+        ++stats.converged;
+        continue;
+      }
+      ++stats.columns;
+      stats.samples += static_cast<int>(e.size());
+      const bool over = std::all_of(e.begin(), e.end(), [](std::int64_t x) { return x >= 0; });
+      if (over) {
+        EXPECT_EQ(*std::max_element(e.begin(), e.end()) + shade, want) << "row " << m.row << " column " << c;
+      } else {
+        // A sample not over by the window's last cycle would end, at the earliest, after it.
+        EXPECT_GT(want, kLine - 1 + shade) << "row " << m.row << " column " << c;
+        ++stats.late;
+      }
+    }
+    ++stats.lines;
+  }
+  EXPECT_EQ(t->overflow, 0);
+}
+
+// A world as the device holds it, its frame (spp, depth), and rows of it, run through units 0, 4 and 8.
+void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32_t frame_no,
+               const std::vector<int>& rows, Stats& stats, bool converge_some = false) {
+  const device::DevicePreset p = device::artix_path_preset();
+  const artix::UnitWorld world = artix::prepare_world(scene);
+  stats.walks += !world.nodes.empty();
+  std::vector<device::PathSurface> surfaces;
+  for (const auto& w : scene.surfaces) surfaces.push_back(device::path_surface(w));
+  device::PathFrame frame;
+  frame.surfaces = surfaces;
+  frame.frame = frame_no;
+  frame.epoch = 1;
+  frame.spp = spp;
+  frame.depth = depth;
+  std::vector<ModelLine> lines;
+  for (const int row : rows) {
+    std::vector<device::AccumEntry> memory(device::kLineWidth);
+    if (converge_some)
+      for (std::size_t c = 0; c < memory.size(); c += 3) memory[c] = {{0, 0, 0}, 255, 1};  // converged
+    lines.push_back(model_line(p, world, row, frame, memory));
+  }
+  for (const int unit : {0, 4, 8}) run_lines(p, world, frame, unit, lines, stats);
+}
+
+TEST(PathUnitRtl, WorldsWithAHierarchyWalkItLineByLineAsTheModel) {
+  std::mt19937_64 rng(20261207);
+  const device::DevicePreset p = device::artix_path_preset();
+  Stats stats;
+  for (int w = 0; w < 4; ++w) {
+    const device::SceneMemory scene = device::testing::with_hierarchy(p, device::testing::random_path_world(p, rng, 64));
+    run_world(scene, 1 + w % 2, w < 2 ? 4 : 1, static_cast<std::uint32_t>(w), {150, 240, 330}, stats);
+  }
+  stats.print("hierarchies");
+  EXPECT_GE(stats.walks, 3);
+  EXPECT_EQ(stats.lines, 4 * 3 * 3);
+  EXPECT_GT(stats.entries, 1000);
+  EXPECT_GT(stats.cuts, 10);
+  EXPECT_GT(stats.far, 0);
+}
+
+TEST(PathUnitRtl, WorldsWithoutAHierarchyTestEverySphereLineByLineAsTheModel) {
+  std::mt19937_64 rng(7);
+  const device::DevicePreset p = device::artix_path_preset();
+  Stats stats;
+  for (int w = 0; w < 4; ++w) {
+    const device::SceneMemory scene = device::testing::random_path_world(p, rng, 8);
+    run_world(scene, 1 + w % 2, w % 2 == 0 ? 4 : 1, 3, {100, 240, 400}, stats, w == 3);
+  }
+  stats.print("every sphere");
+  EXPECT_EQ(stats.walks, 0);
+  EXPECT_GT(stats.entries, 1000);
+  EXPECT_GT(stats.converged, 50);
+}
+
+// Each sphere twice: the originals at the hierarchy's root, their copies in its one leaf. A ray meets a sphere and
+// its copy at the same t d, one in each level of its walk: the lower index, the root's, must win across the levels
+// as within a pass (the model's keep_closest).
+TEST(PathUnitRtl, ATieAcrossAWalksLevelsGoesToTheLowerIndex) {
+  std::mt19937_64 rng(99);
+  const device::DevicePreset p = device::artix_path_preset();
+  Stats stats;
+  for (int w = 0; w < 3; ++w) {
+    device::SceneMemory scene = device::testing::random_path_world(p, rng, 8);
+    const auto n = static_cast<int>(scene.geometry.size());
+    for (int i = 0; i < n; ++i) {
+      scene.geometry.push_back(scene.geometry[static_cast<std::size_t>(i)]);
+      scene.surfaces.push_back(scene.surfaces[static_cast<std::size_t>(i)]);
+    }
+    // The leaf's bound: the box's centre, and its farthest sphere's reach from it with 1 to spare.
+    std::array<std::int64_t, 3> lo{}, hi{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      lo[k] = hi[k] = scene.geometry[0].center[k];
+      for (const auto& g : scene.geometry) {
+        lo[k] = std::min(lo[k], g.center[k] - g.radius);
+        hi[k] = std::max(hi[k], g.center[k] + g.radius);
+      }
+    }
+    core::KernelSphere<std::int64_t> bound;
+    bound.center = {(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+    double reach = 0;
+    for (const auto& g : scene.geometry) {
+      double d2 = 0;
+      for (std::size_t k = 0; k < 3; ++k) d2 += std::pow(static_cast<double>(g.center[k] - bound.center[k]), 2);
+      reach = std::max(reach, std::sqrt(d2) + static_cast<double>(g.radius));
+    }
+    bound.radius = std::min<std::int64_t>(static_cast<std::int64_t>(reach) + 2, (std::int64_t{1} << 21) - 1);
+    scene.hierarchy = {{{}, 1, 1, 0, n}, {bound, 0, 0, n, n}};
+    run_world(scene, 2, 4, static_cast<std::uint32_t>(w), {200, 260}, stats);
+  }
+  stats.print("copies");
+  EXPECT_EQ(stats.walks, 3);
+  EXPECT_GT(stats.entries, 500);
+}
+
+}  // namespace
+}  // namespace tripsitter::rtl
