@@ -172,7 +172,8 @@ DevicePreset artix_path_preset() {
   p.name = "artix-path";
   p.summary =
       "the artix datapath path-tracing: the path preset's materials, 1 sample per pixel per frame, 4 rays per path, "
-      "on 9 sphere units shared by a line's rays and bounces (the model; its RTL is not written yet)";
+      "on 9 sphere units shared by a line's rays and bounces, one bounce stage shared by the units (the model; its RTL "
+      "is written block by block, with no top yet)";
   p.max_bounces = 0;
   p.path = DevicePath{};
   // One bounce stage for all units (hit point, scatter, normalisation, the light's book-keeping and the sky's):
