@@ -6,6 +6,8 @@
 #include <random>
 
 #include <tripsitter/board/board.h>
+#include <tripsitter/device/artix_path.h>
+#include <tripsitter/device/artix_units.h>
 #include <tripsitter/device/controller.h>
 #include <tripsitter/device/sqrt_unit.h>
 #include <tripsitter/link/frame.h>
@@ -88,6 +90,67 @@ void BM_BoardPathFrame(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * 640 * 480);
 }
 BENCHMARK(BM_BoardPathFrame)->Arg(64)->Unit(benchmark::kMillisecond);
+
+// The same on the artix path preset's sphere units (docs/device.md, "Path tracing on the artix datapath"): the
+// single-thread figure of `tripsitter bench --scene random-64 --mode hw --preset artix-path`.
+void BM_BoardArtixPathFrame(benchmark::State& state) {
+  board::BoardConfig config;
+  config.preset = device::artix_path_preset();
+  config.device_threads = 1;
+  board::Board b(scene::random_spheres(static_cast<int>(state.range(0)), 1), config);
+  double step = 0.5;
+  for (auto _ : state) {
+    b.host().camera().orbit(step);
+    step = -step;
+    benchmark::DoNotOptimize(b.show());
+  }
+  state.SetItemsProcessed(state.iterations() * 640 * 480);
+}
+BENCHMARK(BM_BoardArtixPathFrame)->Arg(64)->Unit(benchmark::kMillisecond);
+
+// The artix units' filter (device/artix_batch.h) as a bounced ray's walk calls it: random-64 as the host sends it
+// to the artix path preset (a root and its leaves), each ray leaving a sphere's surface in a random direction
+// testing the root's children's bounds and every leaf's spheres, one run after another, the caller branching on
+// each entry's byte as the walk does. Items are calls.
+void BM_ArtixFilterRuns(benchmark::State& state) {
+  const device::DevicePreset preset = device::artix_path_preset();
+  device::Device dev(preset, link::WireVersion::kV3);
+  host::Host h(scene::random_spheres(64, 1), board::formats_of(preset), link::WireVersion::kV3);
+  dev.transfer(h.update().bytes);
+  dev.run_frame([](const device::VgaSample&) {});
+  device::artix::UnitWorld world = device::artix::prepare_world(dev.scene());
+  device::artix::add_fast_search(world);
+  std::mt19937_64 rng(1);
+  std::uniform_int_distribution<std::int64_t> component(-(1 << 16), 1 << 16);
+  std::vector<device::artix::UnitRay> rays(1024);
+  for (auto& ray : rays) {
+    const auto& s = world.spheres[rng() % world.spheres.size()];
+    const auto n = device::artix::unit_direction({component(rng), component(rng), component(rng)});
+    for (std::size_t k = 0; k < 3; ++k) ray.o[k] = s.c[k] + ((n[k] * s.r) >> device::artix::kDirectionFrac);
+    ray.d = device::artix::unit_direction({component(rng), component(rng), component(rng)});
+  }
+  std::vector<std::uint8_t> meets(device::artix::meets_room(world.spheres.size()));
+  std::size_t i = 0;
+  std::int64_t calls = 0, met = 0;
+  const auto run = [&](const device::artix::UnitRay& ray, const device::artix::SphereBlock& block, int first, int n) {
+    if (n == 0) return;
+    device::artix::meets_line(ray, block, static_cast<std::size_t>(first), static_cast<std::size_t>(n), meets.data());
+    for (int j = 0; j < n; ++j)
+      if (meets[static_cast<std::size_t>(j)] != 0) ++met;
+    ++calls;
+  };
+  for (auto _ : state) {
+    const device::artix::UnitRay& ray = rays[i++ & 1023];
+    for (const device::artix::UnitNode& node : world.nodes) {
+      run(ray, world.sphere_block, node.first_sphere, node.spheres);
+      run(ray, world.bound_block, node.first_child, node.children);
+    }
+  }
+  benchmark::DoNotOptimize(met);
+  state.SetItemsProcessed(calls);
+  state.counters["runs_per_ray"] = static_cast<double>(calls) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_ArtixFilterRuns);
 
 void BM_DecodeV2(benchmark::State& state) {
   host::Host h(scene::random_spheres(static_cast<int>(state.range(0)), 1), board::formats_of(device::wide_preset()),

@@ -1,50 +1,48 @@
 #include <tripsitter/device/artix_batch.h>
 
-#include <cassert>
+#include <algorithm>
 #include <cmath>
-
-#include <tripsitter/device/artix_batch_kernel.h>
 
 namespace tripsitter::device::artix {
 
-SphereBlock::SphereBlock() { pad(); }
+SphereBlock::SphereBlock() { reserve(0); }
 
 SphereBlock::SphereBlock(std::span<const UnitSphere> spheres) {
-  for (std::vector<double>* v : {&cx_, &cy_, &cz_, &down_, &r2s_}) v->reserve(spheres.size() + batch::kLanes - 1);
-  for (const UnitSphere& s : spheres) append(s);
-  pad();
+  reserve(spheres.size());
+  for (const UnitSphere& s : spheres) set(size_++, s);
 }
 
-// kLanes - 1 entries past the last sphere, which no line meets (r^2 / 4^e = -1).
-void SphereBlock::pad() {
-  for (std::vector<double>* v : {&cx_, &cy_, &cz_, &down_, &r2s_}) v->resize(size_ + batch::kLanes - 1, 0.0);
-  std::fill(r2s_.begin() + static_cast<std::ptrdiff_t>(size_), r2s_.end(), -1.0);
+// Room for `entries` and kLanes - 1 entries of padding after them (and after any that follow), the entries kept.
+void SphereBlock::reserve(std::size_t entries) {
+  const std::size_t stride = entries + batch::kLanes - 1;
+  if (stride <= stride_ && !data_.empty()) return;
+  std::vector<double> data(batch::kFields * stride);
+  for (std::size_t k = 0; k < batch::kFields; ++k)
+    std::copy_n(data_.begin() + static_cast<std::ptrdiff_t>(k * stride_), size_,
+                data.begin() + static_cast<std::ptrdiff_t>(k * stride));
+  data_ = std::move(data);
+  stride_ = stride;
+  for (std::size_t j = size_; j < stride_; ++j) set_padding(j);
 }
 
-void SphereBlock::append(const UnitSphere& s) {
-  cx_.push_back(static_cast<double>(s.c[0]));
-  cy_.push_back(static_cast<double>(s.c[1]));
-  cz_.push_back(static_cast<double>(s.c[2]));
-  down_.push_back(std::ldexp(1.0, -(kDirectionFrac + s.e)));
-  r2s_.push_back(static_cast<double>(s.r2s));
-  ++size_;
+void SphereBlock::set(std::size_t j, const UnitSphere& s) {
+  const double f[batch::kFields] = {static_cast<double>(s.c[0]),
+                                    static_cast<double>(s.c[1]),
+                                    static_cast<double>(s.c[2]),
+                                    std::ldexp(1.0, -(kDirectionFrac + s.e)),
+                                    std::ldexp(1.0, -s.e),
+                                    static_cast<double>(s.r2s)};
+  for (std::size_t k = 0; k < batch::kFields; ++k) data_[k * stride_ + j] = f[k];
+}
+
+// An entry no line meets: r^2 / 4^e = -1.
+void SphereBlock::set_padding(std::size_t j) {
+  for (std::size_t k = 0; k < batch::kFields; ++k) data_[k * stride_ + j] = k == batch::kR2s ? -1.0 : 0.0;
 }
 
 void SphereBlock::push_back(const UnitSphere& s) {
-  for (std::vector<double>* v : {&cx_, &cy_, &cz_, &down_, &r2s_}) v->resize(size_);
-  append(s);
-  pad();
-}
-
-std::size_t meets_room(std::size_t n) { return (n + batch::kLanes - 1) / batch::kLanes * batch::kLanes; }
-
-void meets_line(const UnitRay& ray, const SphereBlock& block, std::size_t first, std::size_t n, std::uint8_t* meets) {
-  assert(first + n <= block.size());
-  const double o[3] = {static_cast<double>(ray.o[0]), static_cast<double>(ray.o[1]), static_cast<double>(ray.o[2])};
-  const double d[3] = {static_cast<double>(ray.d[0]), static_cast<double>(ray.d[1]), static_cast<double>(ray.d[2])};
-  batch::meets_line(block.cx_.data() + first, block.cy_.data() + first, block.cz_.data() + first,
-                    block.down_.data() + first, block.r2s_.data() + first, n, o, d, static_cast<double>(kScaledMax),
-                    meets);
+  reserve(std::max(size_ + 1, 2 * size_));
+  set(size_++, s);
 }
 
 }  // namespace tripsitter::device::artix

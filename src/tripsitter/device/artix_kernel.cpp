@@ -11,22 +11,18 @@
 namespace tripsitter::device::artix {
 namespace {
 
-// -2^bits <= v < 2^bits, the range of the (bits + 1)-bit signed operand or register the hardware gives `what`
-// (docs/device.md, "The artix preset"). Compiled in with TRIPSITTER_CHECK_FIXED (worker.h).
-void check(std::int64_t v, int bits, const char* what) {
-  if constexpr (kCheckFixed) {
-    const std::int64_t limit = std::int64_t{1} << bits;
-    if (v < -limit || v >= limit)
-      throw core::FixedPointOverflow(std::string("artix datapath: ") + what + " needs more than " +
-                                     std::to_string(bits + 1) + " bits signed (docs/device.md, The artix preset)");
-  }
-}
+using kernel_detail::check;
 
 int bit_length(std::uint64_t v) { return 64 - std::countl_zero(v); }
 
 std::int64_t dot(const Vec3i& a, const Vec3i& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 }  // namespace
+
+void kernel_detail::width_overflow(int bits, const char* what) {
+  throw core::FixedPointOverflow(std::string("artix datapath: ") + what + " needs more than " +
+                                 std::to_string(bits + 1) + " bits signed (docs/device.md, The artix preset)");
+}
 
 UnitSphere prepare_sphere(const core::KernelSphere<std::int64_t>& s, const core::KernelSurface& surface) {
   UnitSphere u;
@@ -80,56 +76,6 @@ Vec3i camera_direction(int col, int row) {
   const std::int64_t v3[3] = {v.x, v.y, v.z};
   for (std::size_t k = 0; k < 3; ++k) d[k] = std::clamp((v3[k] * g + half) >> shift, -kDirectionMax, kDirectionMax);
   return d;
-}
-
-namespace {
-
-// The unit's pair up to its square root: bd, f and disc.
-Quadratic discriminant(const UnitRay& ray, const UnitSphere& s) {
-  constexpr int D = kDirectionFrac;
-  Quadratic q;
-  Vec3i oc{};
-  for (std::size_t k = 0; k < 3; ++k) {
-    oc[k] = s.c[k] - ray.o[k];  // the pre-adder
-    check(oc[k], kOcBits - 1, "oc = c - o");
-    check(ray.d[k], kDirectionFrac, "a direction");
-  }
-  q.bd = dot(oc, ray.d);
-  const std::int64_t b = (q.bd + (std::int64_t{1} << (D - 1))) >> D;  // to the position grid
-  check(b, kBBits - 1, "b");
-  const int shift = D + s.e;  // 1..21
-  std::int64_t ff = 0;
-  bool saturated = false;  // f beyond 2^17 - 1 > r in the sphere's scale: a miss
-  for (std::size_t k = 0; k < 3; ++k) {
-    q.f[k] = (oc[k] << D) - b * ray.d[k];  // the post-adder: C - A x B
-    check(q.f[k], kFBits - 1, "f");
-    const std::int64_t scaled = q.f[k] >> shift;
-    saturated = saturated || scaled > kScaledMax || scaled < -kScaledMax;
-    const std::int64_t operand = std::clamp(scaled, -kScaledMax, kScaledMax);
-    ff += operand * operand;
-  }
-  q.disc = saturated ? -1 : s.r2s - ff;
-  return q;
-}
-
-std::int64_t root_of(const Quadratic& q) {
-  return static_cast<std::int64_t>(core::isqrt(static_cast<std::uint64_t>(q.disc)));  // < 2^17
-}
-
-}  // namespace
-
-Quadratic quadratic(const UnitRay& ray, const UnitSphere& s) {
-  Quadratic q = discriminant(ray, s);
-  if (q.disc < 0) return q;
-  q.s = root_of(q);
-  q.td = q.bd - (q.s << (kDirectionFrac + s.e));
-  return q;
-}
-
-bool enters(const UnitRay& ray, const UnitSphere& bound) {
-  const Quadratic q = discriminant(ray, bound);
-  // The far root b + s 2^e is above 0 when b is, whatever s: the square root only for a ray pointing away.
-  return q.disc >= 0 && (q.bd > 0 || q.bd + (root_of(q) << (kDirectionFrac + bound.e)) > 0);
 }
 
 namespace {

@@ -18,12 +18,15 @@
 // exactly as the hardware does it.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <span>
 
 #include <tripsitter/core/rgb444.h>
 #include <tripsitter/core/sphere_kernel.h>
+#include <tripsitter/device/worker.h>
 
 namespace tripsitter::device::artix {
 
@@ -85,7 +88,7 @@ struct Quadratic {
   std::int64_t td = 0;    // b - s 2^e, times 2^17: a hit in front of the origin when disc >= 0 and td > 0
   bool hit() const { return disc >= 0 && td > 0; }
 };
-Quadratic quadratic(const UnitRay& ray, const UnitSphere& s);
+inline Quadratic quadratic(const UnitRay& ray, const UnitSphere& s);
 
 struct Hit {
   int index = -1;         // -1: nothing hit in front of the origin
@@ -103,7 +106,7 @@ Vec3i normal(const UnitRay& ray, const UnitSphere& s, bool far = false);
 // The far root's t d of `ray` on `s`, b + s 2^e times 2^17, when the ray meets the sphere; else -1.
 std::int64_t far_td(const UnitRay& ray, const UnitSphere& s);
 // Whether `ray` meets `bound` ahead of its origin: far_td(ray, bound) > 0 (a hierarchy's bound entered).
-bool enters(const UnitRay& ray, const UnitSphere& bound);
+inline bool enters(const UnitRay& ray, const UnitSphere& bound);
 // The hit point o + round(t) d of `ray` at td > 0, on the position grid: where a reflected ray starts.
 Vec3i hit_point(const UnitRay& ray, std::int64_t td);
 // The normal-map colour of the hit of `ray` on `s`: floor(7 n_k + 7) clamped to 0..14, exact (a four-bit quotient).
@@ -148,5 +151,70 @@ core::PixelTrace trace_pixel_with(int col, int row, std::span<const UnitSphere> 
 
 // The plain reference: every pass tests every sphere.
 core::PixelTrace trace_pixel(int col, int row, std::span<const UnitSphere> spheres, int max_bounces);
+
+// The sphere unit's pair, inline: the fast model calls it for every pair its filter keeps.
+namespace kernel_detail {
+
+// Throws core::FixedPointOverflow: `what` needs more than bits + 1 bits signed (artix_kernel.cpp).
+[[noreturn]] void width_overflow(int bits, const char* what);
+
+// -2^bits <= v < 2^bits, the range of the (bits + 1)-bit signed operand or register the hardware gives `what`
+// (docs/device.md, "The artix preset"). Compiled in with TRIPSITTER_CHECK_FIXED (worker.h).
+inline void check(std::int64_t v, int bits, const char* what) {
+  if constexpr (kCheckFixed) {
+    const std::int64_t limit = std::int64_t{1} << bits;
+    if (v < -limit || v >= limit) width_overflow(bits, what);
+  }
+}
+
+// The unit's pair up to its square root: bd, f and disc.
+inline Quadratic discriminant(const UnitRay& ray, const UnitSphere& s) {
+  constexpr int D = kDirectionFrac;
+  Quadratic q;
+  Vec3i oc{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    oc[k] = s.c[k] - ray.o[k];  // the pre-adder
+    check(oc[k], kOcBits - 1, "oc = c - o");
+    check(ray.d[k], kDirectionFrac, "a direction");
+  }
+  q.bd = oc[0] * ray.d[0] + oc[1] * ray.d[1] + oc[2] * ray.d[2];
+  const std::int64_t b = (q.bd + (std::int64_t{1} << (D - 1))) >> D;  // to the position grid
+  check(b, kBBits - 1, "b");
+  const int shift = D + s.e;  // 1..21
+  std::int64_t ff = 0;
+  bool saturated = false;  // f beyond 2^17 - 1 > r in the sphere's scale: a miss
+  for (std::size_t k = 0; k < 3; ++k) {
+    q.f[k] = (oc[k] << D) - b * ray.d[k];  // the post-adder: C - A x B
+    check(q.f[k], kFBits - 1, "f");
+    const std::int64_t scaled = q.f[k] >> shift;
+    saturated = saturated || scaled > kScaledMax || scaled < -kScaledMax;
+    const std::int64_t operand = std::clamp(scaled, -kScaledMax, kScaledMax);
+    ff += operand * operand;
+  }
+  q.disc = saturated ? -1 : s.r2s - ff;
+  return q;
+}
+
+// floor(sqrt(disc)), < 2^17: a correctly rounded square root of an integer below 2^52 never reaches the next
+// integer, so its floor is exact (core::isqrt's estimate, without the corrections it needs above 2^52).
+inline std::int64_t root_of(const Quadratic& q) {
+  return static_cast<std::int64_t>(std::sqrt(static_cast<double>(q.disc)));
+}
+
+}  // namespace kernel_detail
+
+inline Quadratic quadratic(const UnitRay& ray, const UnitSphere& s) {
+  Quadratic q = kernel_detail::discriminant(ray, s);
+  if (q.disc < 0) return q;
+  q.s = kernel_detail::root_of(q);
+  q.td = q.bd - (q.s << (kDirectionFrac + s.e));
+  return q;
+}
+
+inline bool enters(const UnitRay& ray, const UnitSphere& bound) {
+  const Quadratic q = kernel_detail::discriminant(ray, bound);
+  // The far root b + s 2^e is above 0 when b is, whatever s: the square root only for a ray pointing away.
+  return q.disc >= 0 && (q.bd > 0 || q.bd + (kernel_detail::root_of(q) << (kDirectionFrac + bound.e)) > 0);
+}
 
 }  // namespace tripsitter::device::artix
