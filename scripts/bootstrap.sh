@@ -58,15 +58,48 @@ elif [ "$job" = sanitize ]; then
   build tsan
   ctest --preset tsan
 else
+  # The builds the release suite does not need run beside it from the start, at nice 19: they take the processor
+  # time the release job leaves (its configure runs Verilator one model at a time, on one processor) and otherwise
+  # wait. Their output goes to build/<name>.log and is printed where the stage used to be; if this script stops
+  # early, they are stopped with it.
+  declare -A beside_pid
+  device_test=""
+  trap 'for p in "${beside_pid[@]}"; do kill -- -"$p" 2>/dev/null || true; done
+        [ -z "$device_test" ] || kill "$device_test" 2>/dev/null || true' EXIT
+  beside() {  # beside NAME PRESET: configure and build PRESET in its own process group at nice 19
+    mkdir -p build
+    setsid nice -n 19 bash -c 'cmake --preset "$0" >/dev/null && cmake --build --preset "$0" -j "$1"' "$2" "$jobs" \
+      > "build/$1.log" 2>&1 &
+    beside_pid[$1]=$!
+  }
+  # finish NAME [quiet]: waits for NAME's build and prints its output (quiet: only if it failed); exit 1 if it failed.
+  finish() {
+    local status=0
+    wait "${beside_pid[$1]}" || status=$?
+    unset "beside_pid[$1]"
+    if [ "$status" -ne 0 ]; then
+      cat "build/$1.log"
+      echo "the $1 build failed (exit $status)" >&2
+      exit 1
+    fi
+    [ "${2:-}" = quiet ] || cat "build/$1.log"
+  }
+  start=$SECONDS
+  beside check-fixed check-fixed
+  beside fuzz-build fuzz
   build release
+  echo "release build: $((SECONDS - start)) s"
   ctest --preset release
+  echo "release build and suite: $((SECONDS - start)) s"
   # The release build checks no fixed-point invariant (TRIPSITTER_CHECK_FIXED follows NDEBUG): the device's tests
-  # again with every check on, the build of device_test alone.
-  build check-fixed
-  ./build/check-fixed/src/tripsitter/device/device_test --gtest_brief=1
+  # again with every check on, the build of device_test alone; run while the fuzz targets run (it is one thread),
+  # its output printed after theirs.
+  finish check-fixed
+  ./build/check-fixed/src/tripsitter/device/device_test --gtest_brief=1 > build/check-fixed/device_test.log 2>&1 &
+  device_test=$!
   # Every fuzz target: its saved regressions, then 50,000 executions from its seed corpus (which replays
   # every seed first; receiver_pins, which simulates the receiver's RTL clock by clock, 5,000; fuzz/README.md has
-  # the times). Why it cannot make CI flaky:
+  # the times), two targets at a time on two processors. Why it cannot make CI flaky:
   # - the saved regressions and the seeds are replayed as they are, every time;
   # - the search is bounded by executions, not time, with a fixed seed and a fresh working corpus, so a
   #   slow or busy machine runs the same mutations as a fast one and nothing carries over from an
@@ -77,5 +110,15 @@ else
   #   happens to expose it still fails, as it should; fix the bug and keep the input in
   #   fuzz/regressions/ (fuzz/README.md).
   # Long, randomly seeded runs are for people: scripts/fuzz.sh SECONDS.
-  scripts/fuzz.sh --ci 50000
+  finish fuzz-build quiet
+  fuzz_status=0
+  scripts/fuzz.sh --ci 50000 || fuzz_status=$?
+  device_test_status=0
+  wait "$device_test" || device_test_status=$?
+  device_test=""
+  echo "device_test with the fixed-point checks on (build/check-fixed):"
+  cat build/check-fixed/device_test.log
+  echo "the whole test job: $((SECONDS - start)) s"
+  [ "$device_test_status" -eq 0 ] || { echo "device_test failed (exit $device_test_status)" >&2; exit 1; }
+  exit "$fuzz_status"
 fi
