@@ -30,13 +30,6 @@ module ts_path_rng #(
   localparam logic [31:0] Mix2 = 32'h846ca68b;
   localparam logic [31:0] ZeroStandIn = 32'h9e3779b9;
 
-  function automatic logic [31:0] xorshift32(input logic [31:0] s);
-    logic [31:0] x;
-    x = s ^ (s << 13);
-    x = x ^ (x >> 17);
-    xorshift32 = x ^ (x << 5);
-  endfunction
-
   logic [3:0] valid_q;
   logic [4*TAG_W-1:0] tags_q;  // stage i's tag in bits [i x TAG_W +: TAG_W]
   logic [31:0] key_q, mix1_q, mix2_q, state_q;
@@ -69,6 +62,6 @@ module ts_path_rng #(
   always_ff @(posedge clk) begin
     if (rst) value <= ZeroStandIn;
     else if (seed_out_valid) value <= state_q;
-    else if (draw) value <= xorshift32(value);
+    else if (draw) value <= ts_path_pkg::xorshift32(value);
   end
 endmodule

@@ -61,6 +61,62 @@ PathUnitHit with_far_side(const PathUnitRay& path, const Hit& near, std::span<co
 // saturated to 18 bits.
 Vec3i unit_direction(const approx::Unit3& v);
 
+// What the bounce stage makes of a path's ray at its closest hit, or of its escape (a miss): the sky's light (the
+// path's end), the path's end without light (absorbed, or a scattered direction too short to normalise), or the
+// path's next ray. The cut at the path's last ray is the unit's, before the stage. `throughput` (times 2^16 per
+// channel) takes the surface's albedo at a bounce; draw() is the sample's next random number, asked at most once.
+struct PathStep {
+  enum class Kind { kRay, kLight, kAbsorbed };
+  Kind kind = Kind::kAbsorbed;
+  PathUnitRay next;                     // kRay
+  std::array<std::int64_t, 3> light{};  // kLight: times 2^16
+};
+
+// A 2^17 unit direction as the path preset's 2^14 unit vector.
+inline approx::Unit3 to_unit14(const Vec3i& v) {
+  constexpr int kShift = kDirectionFrac - approx::kUnitBits;
+  return {approx::round_shift(v[0], kShift), approx::round_shift(v[1], kShift), approx::round_shift(v[2], kShift)};
+}
+
+template <class Draw>
+PathStep bounce_stage(const PathUnitRay& path, const PathUnitHit& hit, std::span<const UnitSphere> spheres,
+                      std::span<const PathSurface> surfaces, std::array<std::int64_t, 3>& throughput,
+                      const Draw& draw, PathCounters& counters, PathBounces& bounces) {
+  const PathArith& arith = path_arith();
+  PathStep step;
+  if (hit.index < 0) {
+    ++counters.sky;
+    step.kind = PathStep::Kind::kLight;
+    step.light = sky_light(arith, throughput, -to_unit14(path.ray.d).y);
+    return step;
+  }
+  const auto i = static_cast<std::size_t>(hit.index);
+  const PathSurface& surface = surfaces[i];
+  const approx::Unit3 n = checked(arith, to_unit14(normal(path.ray, spheres[i], hit.inside)), core::Width::kUnitVector);
+  const Scattered bounce = scatter(
+      arith, surface, n, hit.inside,
+      [&] { return checked(arith, to_unit14(path.ray.d), core::Width::kUnitVector); }, draw, counters);
+  if (bounce.bounce == Bounce::kAbsorbed) return step;
+  Vec3i next = path.ray.d;
+  if (bounce.bounce == Bounce::kScattered) {
+    const approx::Unit3& v = bounce.next;
+    if (core::dot(v, v) < 64) {  // shorter than 2^-11, nothing to normalise (a refraction at grazing incidence)
+      ++counters.absorbed;
+      return step;
+    }
+    checked(arith, v, core::Width::kScattered);
+    next = unit_direction(v);
+  }
+  take_albedo(arith, surface, throughput);
+  step.kind = PathStep::Kind::kRay;
+  step.next.ray.o = hit_point(path.ray, hit.td);
+  step.next.ray.d = next;
+  step.next.from = hit.index;
+  step.next.into = bounce.into;
+  count_bounce(surface, bounces);
+  return step;
+}
+
 // One sample of the pixel (col, row), with the closest-hit search supplied: closest(path) must return
 // with_far_side(path, closest_hit(path.ray, spheres, path.from), spheres), or the same from a narrower search
 // (the camera's ray: its tile's spheres).
@@ -68,7 +124,6 @@ template <class Closest>
 PathSample trace_path_sample(int col, int row, std::span<const UnitSphere> spheres,
                              std::span<const PathSurface> surfaces, int depth, PathRng& rng, PathCounters& counters,
                              const Closest& closest) {
-  const PathArith& arith = path_arith();
   PathSample out;
   PathUnitRay path{{{}, camera_direction(col, row)}, -1, false};
   std::array<std::int64_t, 3> throughput{65536, 65536, 65536};
@@ -77,48 +132,20 @@ PathSample trace_path_sample(int col, int row, std::span<const UnitSphere> spher
     ++counters.draws;
     return rng.next();
   };
-  const auto to_unit14 = [](const Vec3i& v) {
-    constexpr int kShift = kDirectionFrac - approx::kUnitBits;
-    return approx::Unit3{approx::round_shift(v[0], kShift), approx::round_shift(v[1], kShift),
-                         approx::round_shift(v[2], kShift)};
-  };
   for (int rays = 1;; ++rays) {
     ++counters.rays;
     out.rays = rays;
     const PathUnitHit hit = closest(path);
-    if (hit.index < 0) {
-      ++counters.sky;
-      out.light = sky_light(arith, throughput, -to_unit14(path.ray.d).y);
-      return out;
-    }
-    if (rays == depth) {
+    if (hit.index >= 0 && rays == depth) {
       ++counters.cut;
       return out;
     }
-    const auto i = static_cast<std::size_t>(hit.index);
-    const PathSurface& surface = surfaces[i];
-    const approx::Unit3 n = checked(arith, to_unit14(normal(path.ray, spheres[i], hit.inside)), core::Width::kUnitVector);
-    const Scattered bounce = scatter(
-        arith, surface, n, hit.inside,
-        [&] { return checked(arith, to_unit14(path.ray.d), core::Width::kUnitVector); }, draw, counters);
-    if (bounce.bounce == Bounce::kAbsorbed) return out;
-    Vec3i next = path.ray.d;
-    if (bounce.bounce == Bounce::kScattered) {
-      const approx::Unit3& v = bounce.next;
-      if (core::dot(v, v) < 64) {  // shorter than 2^-11, nothing to normalise (a refraction at grazing incidence)
-        ++counters.absorbed;
-        return out;
-      }
-      checked(arith, v, core::Width::kScattered);
-      next = unit_direction(v);
+    const PathStep step = bounce_stage(path, hit, spheres, surfaces, throughput, draw, counters, out.bounces);
+    if (step.kind != PathStep::Kind::kRay) {
+      out.light = step.light;
+      return out;
     }
-    take_albedo(arith, surface, throughput);
-    // Field by field: a whole new ray built beside it and copied in would be loaded while its stores are in flight.
-    path.ray.o = hit_point(path.ray, hit.td);
-    path.ray.d = next;
-    path.from = hit.index;
-    path.into = bounce.into;
-    count_bounce(surface, out.bounces);
+    path = step.next;
   }
 }
 
