@@ -28,6 +28,7 @@ package ts_artix_pkg;
   localparam int WalkLead = 1;         // artix-path: cycles a walk's later level holds the port before its first slot
   localparam int WalkWait = 1;         // artix-path: from a walk level's hits known to its next level in the queue
   localparam int Paths = 32;           // artix-path: paths a unit holds at once
+  localparam int BounceLatency = 51;   // artix-path: from a hit at its unit's stage port to the next ray in its queue
 
   // ---- The arithmetic (artix_kernel.h) ------------------------------------------------------------------------
   localparam int DirFrac = 17;         // unit directions and normals: times 2^17

@@ -86,6 +86,12 @@ module ts_path_bounce #(
   localparam logic [1:0] Straight = 2'd1, Absorbed = 2'd2;
   localparam logic [16:0] One = 17'd65536;
 
+  // The schedule's count (DeviceUnits::reflect_latency of artix-path): the turn's register before the stage, its
+  // Latency, and the cycle its next ray takes to be known in the unit's queue.
+  if (ts_artix_pkg::BounceLatency != 1 + Latency + 1) begin : g_bad_latency
+    $error("ts_path_bounce: the stage's Latency is not the schedule's BounceLatency less 2");
+  end
+
   logic [LastAt-1:0] v_q;  // v_q[j - 1]: a ray is in cycle j
   always_ff @(posedge clk) begin
     if (rst) v_q <= '0;

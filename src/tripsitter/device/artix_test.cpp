@@ -192,13 +192,13 @@ TEST(ArtixSchedule, AReflectedRayWaitsWhileTheUnitTakesItsNextPixel) {
 
 // The artix path preset's line: a column's samples are chains of their own, a bounce waits for the bounce stage,
 // and a converged pixel takes no issue slot. One unit per two columns, 10 spheres, the artix path preset's
-// latencies (hit 40, bounce stage 69, colour 16), each unit with a bounce stage of its own.
+// latencies (hit 40, bounce stage 51, colour 16), each unit with a bounce stage of its own.
 TEST(ArtixSchedule, SamplesAreChainsAndAConvergedPixelTakesNoSlot) {
   DevicePreset p = artix_path_preset();
   p.workers = 320;
   p.units->shared_bounce = false;
   ASSERT_EQ(p.units->hit_latency, 40);
-  ASSERT_EQ(p.units->reflect_latency, 69);
+  ASSERT_EQ(p.units->reflect_latency, 51);
   ASSERT_EQ(p.units->shade_latency, 16);
   using Pass = artix::LineChains::Pass;
   artix::LineChains work;
@@ -217,15 +217,15 @@ TEST(ArtixSchedule, SamplesAreChainsAndAConvergedPixelTakesNoSlot) {
   work.start.push_back(static_cast<int>(work.chain_start.size()));
   work.chain_start.push_back(static_cast<int>(work.passes.size()));
   const auto finish = artix::unit_finish_cycles(p, work);
-  // Unit 5: column 5's first sample issues [0, 10), its hit is known at 50 and its bounce waits from 119; its
-  // second sample issues [10, 20), known at 60, its light out at 129; column 325 issues [20, 30), known at 70,
-  // light at 139, done at 155; the bounce issues [119, 129), known at 169, light at 238: column 5 is done at 254,
+  // Unit 5: column 5's first sample issues [0, 10), its hit is known at 50 and its bounce waits from 101; its
+  // second sample issues [10, 20), known at 60, its light out at 111; column 325 issues [20, 30), known at 70,
+  // light at 121, done at 137; the bounce issues [101, 111), known at 151, light at 202: column 5 is done at 218,
   // after both its samples.
-  EXPECT_EQ(finish[325], 155);
-  EXPECT_EQ(finish[5], 254);
+  EXPECT_EQ(finish[325], 137);
+  EXPECT_EQ(finish[5], 218);
   // Unit 6: column 6 traces nothing (converged), shown 16 cycles after the unit reaches it; 326 issues [0, 10).
   EXPECT_EQ(finish[6], 16);
-  EXPECT_EQ(finish[326], 135);
+  EXPECT_EQ(finish[326], 117);
 }
 
 // A bounce that walks the hierarchy is a pass a level: the next level joins the queue as soon as the previous
@@ -245,13 +245,13 @@ TEST(ArtixSchedule, AWalksNextLevelFollowsItsHitsWithoutTheBounceStage) {
   work.start.push_back(static_cast<int>(work.chain_start.size()));
   work.chain_start.push_back(static_cast<int>(work.passes.size()));
   const auto finish = artix::unit_finish_cycles(p, work);
-  // Unit 5: column 5's camera ray issues [0, 4), known at 44; column 325 issues [4, 8), known at 48, light at 117,
-  // done at 133. The bounce's bounds wait from 113 and issue [113, 122), known at 162; its spheres' level waits
-  // from 163 (walk_wait), reads its first node then (the walk's lead) and issues [164, 180), known at 220, light at
-  // 289: done at 305.
+  // Unit 5: column 5's camera ray issues [0, 4), known at 44; column 325 issues [4, 8), known at 48, light at 99,
+  // done at 115. The bounce's bounds wait from 95 and issue [95, 104), known at 144; its spheres' level waits
+  // from 145 (walk_wait), reads its first node then (the walk's lead) and issues [146, 162), known at 202, light at
+  // 253: done at 269.
   ASSERT_EQ(p.units->walk_wait, 1);
-  EXPECT_EQ(finish[325], 133);
-  EXPECT_EQ(finish[5], 305);
+  EXPECT_EQ(finish[325], 115);
+  EXPECT_EQ(finish[5], 269);
 }
 
 // The units share one bounce stage: unit u's hits enter it only in the line's cycles c = u (mod N), one a cycle,
@@ -277,12 +277,12 @@ TEST(ArtixSchedule, TheSharedBounceStageTakesAUnitsHitsInItsOwnCycles) {
   const auto finish = artix::unit_finish_cycles(p, work);
   // Unit 1's camera rays issue [0, 3), [3, 6), [6, 9), [9, 12) (the cut, column 25), [12, 15): known at 43, 46, 49,
   // 52 and 55. Column 1's enters at 49, column 9's at 57 (49 is taken), column 17's at 65 although it was known in
-  // a cycle of the unit's (49), column 33's at 73 (the cut took no cycle of the stage); each colour 69 + 16 later.
-  EXPECT_EQ(finish[1], 49 + 85);
-  EXPECT_EQ(finish[9], 57 + 85);
-  EXPECT_EQ(finish[17], 65 + 85);
+  // a cycle of the unit's (49), column 33's at 73 (the cut took no cycle of the stage); each colour 51 + 16 later.
+  EXPECT_EQ(finish[1], 49 + 67);
+  EXPECT_EQ(finish[9], 57 + 67);
+  EXPECT_EQ(finish[17], 65 + 67);
   EXPECT_EQ(finish[25], 52 + 16);
-  EXPECT_EQ(finish[33], 73 + 85);
+  EXPECT_EQ(finish[33], 73 + 67);
 }
 
 // A unit holds at most `paths` paths: a camera ray waits for one to end, after the bounce stage's light or the
@@ -306,14 +306,14 @@ TEST(ArtixSchedule, ACameraRayWaitsForAPathToEndWhenTheUnitHoldsItsPaths) {
   work.start.push_back(static_cast<int>(work.chain_start.size()));
   work.chain_start.push_back(static_cast<int>(work.passes.size()));
   const auto finish = artix::unit_finish_cycles(p, work);
-  // Unit 5: column 5 issues [0, 10), known at 50, its bounce waits from 119 and issues [119, 129), known at 169,
-  // light at 238: over. Column 325 then issues [238, 248), known at 288, light at 357.
-  EXPECT_EQ(finish[5], 238 + 16);
-  EXPECT_EQ(finish[325], 357 + 16);
+  // Unit 5: column 5 issues [0, 10), known at 50, its bounce waits from 101 and issues [101, 111), known at 151,
+  // light at 202: over. Column 325 then issues [202, 212), known at 252, light at 303.
+  EXPECT_EQ(finish[5], 202 + 16);
+  EXPECT_EQ(finish[325], 303 + 16);
   // Unit 6: column 6 issues [0, 10), cut at 50: held until 51, when column 326 issues [51, 61), known at 101, light
-  // at 170.
+  // at 152.
   EXPECT_EQ(finish[6], 50 + 16);
-  EXPECT_EQ(finish[326], 170 + 16);
+  EXPECT_EQ(finish[326], 152 + 16);
 }
 
 TEST(ArtixSchedule, AHeavyLineIsLateFromTheLeadOn) {

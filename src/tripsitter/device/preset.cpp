@@ -177,12 +177,14 @@ DevicePreset artix_path_preset() {
   p.max_bounces = 0;
   p.path = DevicePath{};
   // One bounce stage for all units (hit point, scatter, normalisation, the light's book-keeping and the sky's):
-  // a hit that bounces, or a ray that escapes, enters it in its unit's cycle and comes out the path preset's
-  // slowest scatter later (a dielectric's, 69 cycles), as the next ray or as the sample's light; a colour is in
-  // the line buffer after the light (or the cut's hit), the accumulation and the display (8 + 8).
+  // a hit that bounces, or a ray that escapes, enters it in its unit's cycle and comes out 51 cycles later, as the
+  // next ray or as the sample's light: the turn's register, ts_path_bounce's 49 cycles (every material's bounce
+  // the same: the scatter unit waits its lambertian and metal results for its dielectric's), and the cycle before
+  // the ray is known in the unit's queue (ts_artix_pkg::BounceLatency). A colour is in the line buffer after the
+  // light (or the cut's hit), the accumulation and the display (8 + 8).
   p.units->shared_bounce = true;
   p.units->paths = 32;
-  p.units->reflect_latency = p.costs.scatter_dielectric;
+  p.units->reflect_latency = 51;
   p.units->shade_latency = p.costs.accumulate + 8;
   return p;
 }
