@@ -6,7 +6,8 @@
 // direction, the sphere it leaves, whether it went in, the rays), or the sky's light, or nothing for a path
 // absorbed; and the stage's own state between a path's rays, its random stream and its throughput, is what the
 // twin's copy holds, so that every path's light is the one artix::trace_path_sample gives its sample. Paths of nine
-// units, up to 32 each, interleaved in a random order with gaps, with the surfaces from a memory read two cycles late.
+// units, up to 32 each, interleaved in a random order with gaps, with the surfaces from a memory read two cycles late;
+// then the line window's flush, after which nothing of the rays in the stage comes out.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -86,6 +87,7 @@ void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32
   context.randReset(2);
   auto t = std::make_unique<Vts_path_bounce>(&context);
   t->rst = 1;
+  t->flush = 0;
   t->in_valid = 0;
   for (int i = 0; i < 3; ++i) rising_edge(*t);
   t->rst = 0;
@@ -256,6 +258,18 @@ void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32
     }
     ASSERT_EQ(over, static_cast<int>(paths.size())) << "row " << row << ": paths never over";
   }
+  // The window's flush: of rays going in every cycle up to it, those out by its cycle come out, the others never.
+  constexpr int kFlushAt = 60;
+  int out = 0;
+  for (int cyc = 0; cyc < kFlushAt + 2 * kLatency; ++cyc) {
+    t->in_valid = cyc <= kFlushAt;
+    t->in_hit = (cyc & 1) != 0;
+    t->flush = cyc == kFlushAt;
+    rising_edge(*t);
+    out += t->ray_valid + t->end_valid;
+  }
+  t->flush = 0;
+  EXPECT_EQ(out, kFlushAt + 1 - kLatency) << "rays out around the flush";
 }
 
 TEST(PathBounceRtl, PathsThroughTheStageEqualTheModelsBounceByBounce) {

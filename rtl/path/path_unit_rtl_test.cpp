@@ -41,7 +41,8 @@ using sphere_unit::pack3;
 
 constexpr int kUnits = 9;  // the Verilated unit's N (PARAMS), the preset's
 constexpr int kLine = 3200;
-constexpr int kSampleBits = 5;  // the tag: {pixel slot, sample}
+constexpr int kSampleBits = 5, kColBits = 10;  // the tag: {path number, column, sample}
+constexpr int kPaths = 32;                         // the Verilated unit's IDS (PARAMS)
 
 // One line of the model for the unit's columns: its chains, its finish cycles, and each sample's rays with their
 // hits, in the order traced.
@@ -130,10 +131,13 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
     const ModelLine& m = lines[l];
     struct Return {
       int col, sample, ray;  // ray < 0: the path is over
+      int tag;
     };
     std::multimap<std::int64_t, Return> returns;  // the bounce stage's next rays, by the cycle they come back
     std::vector<std::vector<std::int64_t>> ends(device::kLineWidth);  // each sample's light out (or its cut's)
     std::vector<std::vector<int>> seen(device::kLineWidth);            // rays of each sample handed on
+    std::array<int, kPaths> numbers;                                   // the live path of each number (col 32 + sample)
+    numbers.fill(-1);
     for (const int c : cols) {
       const auto n = m.paths[static_cast<std::size_t>(c)].size();
       ends[static_cast<std::size_t>(c)].assign(n, -1);
@@ -171,6 +175,8 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
         ASSERT_EQ(returns.count(cyc), 0u) << "two words back in one cycle";
         if (r.ray < 0) {
           t->end_valid = 1;
+          t->end_path = static_cast<CData>(r.tag >> (kColBits + kSampleBits));
+          numbers[static_cast<std::size_t>(r.tag >> (kColBits + kSampleBits))] = -1;
         } else {
           const auto& next = m.paths[static_cast<std::size_t>(r.col)][static_cast<std::size_t>(r.sample)][static_cast<std::size_t>(r.ray)].first;
           t->ray_valid = 1;
@@ -179,16 +185,25 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
           t->ray_from = static_cast<CData>(next.from);
           t->ray_into = next.into;
           t->ray_rays = static_cast<CData>(r.ray + 1);
-          t->ray_tag = static_cast<SData>((((r.col - unit) / kUnits) << kSampleBits) | r.sample);
+          t->ray_tag = static_cast<IData>(r.tag);
         }
       }
       t->clk = 0;
       t->eval();
 
+      // A path's names from its tag; its number the same at every ray, and no other path's while it lives.
       const auto path_of = [&](int tag, int& col, int& sample) {
-        col = unit + (tag >> kSampleBits) * kUnits;
+        col = (tag >> kSampleBits) & ((1 << kColBits) - 1);
         sample = tag & ((1 << kSampleBits) - 1);
-        return col < device::kLineWidth && sample < static_cast<int>(m.paths[static_cast<std::size_t>(col)].size());
+        const int number = tag >> (kColBits + kSampleBits);
+        if (col >= device::kLineWidth || (col - unit) % kUnits != 0 ||
+            sample >= static_cast<int>(m.paths[static_cast<std::size_t>(col)].size()) || number >= kPaths)
+          return false;
+        const int key = col * 32 + sample;
+        auto& holder = numbers[static_cast<std::size_t>(number)];
+        if (holder < 0) holder = key;
+        EXPECT_EQ(holder, key) << "path number " << number << " of two live paths";
+        return true;
       };
       if (t->stage_valid != 0) {
         int col = 0, sample = 0;
@@ -213,9 +228,9 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
         }
         ++stats.entries;
         if (ray + 1 < static_cast<int>(rays.size())) {
-          returns.insert({cyc + reflect - 1, {col, sample, ray + 1}});
+          returns.insert({cyc + reflect - 1, {col, sample, ray + 1, static_cast<int>(t->stage_tag)}});
         } else {
-          returns.insert({cyc + reflect - 1, {col, sample, -1}});
+          returns.insert({cyc + reflect - 1, {col, sample, -1, static_cast<int>(t->stage_tag)}});
           ends[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = cyc + reflect;
         }
       }
@@ -228,6 +243,7 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
         EXPECT_EQ(seen[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)], frame.depth - 1);
         seen[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = frame.depth;
         ends[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = cyc;
+        numbers[static_cast<std::size_t>(t->cut_tag >> (kColBits + kSampleBits))] = -1;
         ++stats.cuts;
       }
       tile_q = t->tile;

@@ -24,7 +24,8 @@
 //   49     out (Latency): a next ray (`ray_valid`: the hit point, the scattered direction or, straight on, the
 //          ray's own, the sphere it leaves, whether it went in, the rays with it) and the path's word written; or
 //          the path's end (`end_valid`: the sky's light for a miss, 0 for a path absorbed)
-// What a ray carries meanwhile waits in delay rings (ts_artix_delay) beside the blocks.
+// What a ray carries meanwhile waits in delay rings (ts_artix_delay) beside the blocks. `flush`, the line window's
+// last cycle (the units' flush), drops every ray in the stage: nothing comes out after it for a ray of that line.
 module ts_path_bounce #(
     parameter int N = 9,                      // units sharing the stage
     parameter int IDS = ts_artix_pkg::Paths,  // paths a unit holds, a power of two
@@ -36,6 +37,7 @@ module ts_path_bounce #(
 ) (
     input  logic                 clk,
     input  logic                 rst,
+    input  logic                 flush,     // the line window's last cycle: every ray in the stage is dropped
     // The line's row and the frame's first sample index (frame x spp), steady while the line is traced.
     input  logic [8:0]           row,
     input  logic [31:0]          sample_base,
@@ -94,7 +96,7 @@ module ts_path_bounce #(
 
   logic [LastAt-1:0] v_q;  // v_q[j - 1]: a ray is in cycle j
   always_ff @(posedge clk) begin
-    if (rst) v_q <= '0;
+    if (rst || flush) v_q <= '0;
     else v_q <= {v_q[LastAt-2:0], in_valid};
   end
 
@@ -354,7 +356,7 @@ module ts_path_bounce #(
   wire goes48 = hit48 && bounce48 != Absorbed && !(bounce48 != Straight && short48);
 
   always_ff @(posedge clk) begin
-    if (rst) begin
+    if (rst || flush) begin
       ray_valid <= 1'b0;
       end_valid <= 1'b0;
     end else begin
@@ -371,7 +373,7 @@ module ts_path_bounce #(
   end
   // The path's word, for its next ray.
   always_ff @(posedge clk) begin
-    write      <= live48 && goes48;
+    write      <= live48 && goes48 && !flush;
     write_at   <= {unit48, path48};
     write_word <= {stream48, kept48[36+:17], kept48[18+:17], kept48[0+:17]};
   end

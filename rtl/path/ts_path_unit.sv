@@ -8,9 +8,13 @@
 // "Path tracing blocks". Cycle c is counted from the line window's first cycle (`start`), the model's cycle 0.
 //
 // A path is a sample's rays, one after another. Its ray's state (origin, direction, the sphere it leaves, whether it
-// went in, the rays so far, and TAG_W bits the unit only carries: the pixel and sample for a camera ray, what the
-// bounce stage adds after) lives under an id (0 .. IDS - 1) from the pass that starts the ray to the ray's closest
-// hit; the hit merged over the ray's passes (a walk's levels) lives beside it.
+// went in, the rays so far, and the path's names, which the unit gives its camera ray and only carries after: its
+// tag, {path number, column, sample}) lives under an id (0 .. IDS - 1) from the pass that starts the ray to the
+// ray's closest hit; the hit merged over the ray's passes (a walk's levels) lives beside it. A path's number (0 ..
+// IDS - 1) is its own from its camera ray's take to its end: the bounce stage keeps the path's random stream and
+// throughput under it (ts_path_bounce). Numbers are counted out fresh after a flush, then taken back from the
+// paths cut, then from those the stage ended (`end_path`), each kind in a queue of its own (both may end a path in
+// one cycle).
 //
 // The issue port. When the port is free in cycle c (no pass issuing, the walker ready), it takes the bounced ray or
 // the walk's next level known first, else the next camera ray, else nothing. A bounced ray arrives from the bounce
@@ -46,13 +50,13 @@
 module ts_path_unit #(
     parameter int N = 9,       // units sharing the bounce stage
     parameter int IDS = ts_artix_pkg::Paths,  // paths the unit holds (DeviceUnits::paths), a power of two
-    parameter int TAG_W = 16,  // what a path carries that the unit does not read
     localparam int Slots = (ts_artix_pkg::LineWidth + N - 1) / N,  // the busiest unit's pixels a line
     localparam int SlotW = $clog2(Slots),
     localparam int AW = ts_artix_pkg::SphereAW,
     localparam int DirW = ts_artix_pkg::DirW,
     localparam int OriginW = ts_artix_pkg::OriginW,
-    localparam int IdW = $clog2(IDS)
+    localparam int IdW = $clog2(IDS),
+    localparam int TagW = IdW + 10 + 5  // a path's names: {number, column, sample}
 ) (
     input  logic                   clk,
     input  logic                   rst,
@@ -97,15 +101,16 @@ module ts_path_unit #(
     input  logic [AW-1:0]          ray_from,
     input  logic                   ray_into,
     input  logic [3:0]             ray_rays,  // the rays of the path with this one
-    input  logic [TAG_W-1:0]       ray_tag,
+    input  logic [TagW-1:0]        ray_tag,
     // From the bounce stage: a path of the unit is over (its light is out in the next cycle).
     input  logic                   end_valid,
+    input  logic [IdW-1:0]         end_path,
     // To the bounce stage, in the unit's turn: a ray's closest hit (or its miss) with the ray.
     output logic                   stage_valid,
     output logic [3*OriginW-1:0]   stage_o,
     output logic [3*DirW-1:0]      stage_d,
     output logic [3:0]             stage_rays,
-    output logic [TAG_W-1:0]       stage_tag,
+    output logic [TagW-1:0]        stage_tag,
     output logic                   stage_hit,
     output logic [AW-1:0]          stage_index,
     output logic                   stage_far,
@@ -116,7 +121,7 @@ module ts_path_unit #(
     output logic [ts_artix_pkg::ExpW-1:0]    stage_e,
     // A path cut at its last ray's hit.
     output logic                   cut_valid,
-    output logic [TAG_W-1:0]       cut_tag,
+    output logic [TagW-1:0]        cut_tag,
     output logic                   overflow
 );
   localparam int MinPass = ts_artix_pkg::MinPass;
@@ -147,7 +152,7 @@ module ts_path_unit #(
     logic [AW-1:0]        from;
     logic                 into;    // ... and went into it
     logic [3:0]           rays;
-    logic [TAG_W-1:0]     tag;
+    logic [TagW-1:0]      tag;
   } ray_t;
   typedef struct packed {
     logic             hit;
@@ -160,7 +165,7 @@ module ts_path_unit #(
     logic [ExpW-1:0]  e;
   } hit_t;
   // Their widths, field by field (Yosys 0.23 takes no $bits of a type).
-  localparam int RayW = 3 * OriginW + 3 * DirW + 1 + AW + 1 + 4 + TAG_W;
+  localparam int RayW = 3 * OriginW + 3 * DirW + 1 + AW + 1 + 4 + TagW;
   localparam int HitW = 1 + AW + 1 + TdW + BdW + 3 * FW + SqrtW + ExpW;
 
   // ---- the line's cycle and the unit's turn at the bounce stage ---------------------------------------------------
@@ -238,6 +243,25 @@ module ts_path_unit #(
     else if (id_take && !fresh_q[IdW]) fresh_q <= fresh_q + (IdW + 1)'(1);
   end
 
+  // ---- path numbers: the fresh ones counted out, then the ones given back by cuts, then by the stage's ends --------
+  logic [IdW:0]   pfresh_q;
+  logic           pc_empty, pe_empty, pc_overflow, pe_overflow, path_take, cut;
+  logic [IdW-1:0] pc_front, pe_front, path_new, cut_path;
+  ts_artix_fifo #(.W(IdW), .DEPTH(IDS)) cut_paths (
+      .clk, .rst, .clear(flush), .push(cut), .push_data(cut_path),
+      .pop(path_take && pfresh_q[IdW] && !pc_empty), .front(pc_front), .empty(pc_empty), .overflow(pc_overflow)
+  );
+  ts_artix_fifo #(.W(IdW), .DEPTH(IDS)) ended_paths (
+      .clk, .rst, .clear(flush), .push(end_valid), .push_data(end_path),
+      .pop(path_take && pfresh_q[IdW] && pc_empty), .front(pe_front), .empty(pe_empty), .overflow(pe_overflow)
+  );
+  assign path_new = !pfresh_q[IdW] ? pfresh_q[IdW-1:0] : !pc_empty ? pc_front : pe_front;
+  wire paths_short = path_take && pfresh_q[IdW] && pc_empty && pe_empty;
+  always_ff @(posedge clk) begin
+    if (rst || flush) pfresh_q <= '0;
+    else if (path_take && !pfresh_q[IdW]) pfresh_q <= pfresh_q + (IdW + 1)'(1);
+  end
+
   // ---- the issue port -----------------------------------------------------------------------------------------------
   logic            run_q;       // inside the window
   logic            busy_q;      // a camera or flat pass is issuing: slot_q is its next slot
@@ -270,6 +294,7 @@ module ts_path_unit #(
   assign b_pop = take_b;
   assign l_pop = take_l;
   assign id_take = take_b || take_cam;
+  assign path_take = take_cam;
   wire last_sample = cam_sample == spp - 5'd1;
 
   // A camera or flat pass's last slot (its first is never its last: MinPass > 1), from the issuing pass's registers.
@@ -285,7 +310,7 @@ module ts_path_unit #(
   // The paths the unit holds, from a camera ray's take to the path's end (its cut, or the bounce stage's word), and
   // whether that is IDS: a camera ray waits for one to end.
   logic [IdW:0] held_q;
-  logic         full_q, cut;
+  logic         full_q;
   wire  [IdW:0] held = held_q + (IdW + 1)'(take_cam) - (IdW + 1)'(cut) - (IdW + 1)'(end_valid);
   always_ff @(posedge clk) begin
     if (rst || flush) begin
@@ -335,14 +360,16 @@ module ts_path_unit #(
   logic           new_q;        // the pass taken last cycle starts a ray (its first slot is at stage 1 now)
   logic           new_cam_q;
   ray_t           new_b_q;
-  logic [SlotW-1:0] new_k_q;
+  logic [IdW-1:0] new_path_q;
+  logic [9:0]     new_col_q;
   logic [4:0]     new_sample_q;
   logic [3*DirW-1:0] dir1_q;
   always_ff @(posedge clk) begin
     new_q        <= !rst && !flush && (take_b || take_cam);
     new_cam_q    <= take_cam;
     new_b_q      <= b_front;
-    new_k_q      <= cam_k;
+    new_path_q   <= path_new;
+    new_col_q    <= cam_col;
     new_sample_q <= cam_sample;
     dir1_q       <= dirs[{rbank, cam_k}];
   end
@@ -356,7 +383,7 @@ module ts_path_unit #(
       new_ray.from   = '0;
       new_ray.into   = 1'b0;
       new_ray.rays   = 4'd1;
-      new_ray.tag    = TAG_W'({new_k_q, new_sample_q});
+      new_ray.tag    = {new_path_q, new_col_q, new_sample_q};
     end
   end
   always_ff @(posedge clk) if (new_q) rays_mem[pass_id_q] <= new_ray;
@@ -483,6 +510,7 @@ module ts_path_unit #(
   assign id_back_id = flight_id;
   assign cut_valid = cut;
   assign cut_tag   = done_ray.tag;
+  assign cut_path  = done_ray.tag[TagW-1-:IdW];
 
   // Hits waiting for the unit's turn: the one arriving in a turn with none waiting goes straight on.
   logic       st_empty, st_overflow;
@@ -513,7 +541,8 @@ module ts_path_unit #(
 
   always_ff @(posedge clk) begin
     if (rst) overflow <= 1'b0;
-    else if (b_overflow || l_overflow || ids_overflow || ids_short || flight_overflow || walker_overflow
+    else if (b_overflow || l_overflow || ids_overflow || ids_short || pc_overflow || pe_overflow || paths_short
+             || flight_overflow || walker_overflow
              || st_overflow || (hit_valid && flight_empty) || (hit_valid && flight_walk && result_id != flight_id))
       overflow <= 1'b1;
   end
