@@ -30,10 +30,13 @@
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/test_util.h>
 
+#include "path_line_model.h"
+
 namespace tripsitter::rtl {
 namespace {
 
 namespace artix = device::artix;
+using path::ModelLine;
 using sphere_unit::kDirW;
 using sphere_unit::kOriginW;
 using sphere_unit::kTdW;
@@ -43,39 +46,6 @@ constexpr int kUnits = 9;  // the Verilated unit's N (PARAMS), the preset's
 constexpr int kLine = 3200;
 constexpr int kSampleBits = 5, kColBits = 10;  // the tag: {path number, column, sample}
 constexpr int kPaths = 32;                         // the Verilated unit's IDS (PARAMS)
-
-// One line of the model for the unit's columns: its chains, its finish cycles, and each sample's rays with their
-// hits, in the order traced.
-struct ModelLine {
-  int row = 0;
-  artix::RowTiles tiles;
-  std::vector<std::int64_t> finish;
-  std::vector<bool> takes;                                                          // a column
-  std::vector<std::vector<std::vector<std::pair<artix::PathUnitRay, artix::PathUnitHit>>>> paths;  // [col][sample]
-};
-
-ModelLine model_line(const device::DevicePreset& p, const artix::UnitWorld& world, int row,
-                     const device::PathFrame& frame, const std::vector<device::AccumEntry>& memory) {
-  ModelLine m;
-  m.row = row;
-  m.tiles = artix::row_tiles(world, row, p.units->tile_columns);
-  m.paths.resize(device::kLineWidth);
-  artix::LineChains work;
-  std::vector<device::PathPixel> pixels(device::kLineWidth);
-  device::PathCounters counters;
-  const artix::RayObserver observe = [&](int col, const artix::PathUnitRay& ray, const artix::PathUnitHit& hit) {
-    // The sample being traced: the column's chains so far.
-    const std::size_t sample = work.chain_start.size() - 1 - static_cast<std::size_t>(work.start.back());
-    auto& samples = m.paths[static_cast<std::size_t>(col)];
-    if (samples.size() <= sample) samples.resize(sample + 1);
-    samples[sample].push_back({ray, hit});
-  };
-  artix::path_line_chains(p, world, row, frame, memory, pixels, counters, artix::Search::kAll, work, &observe);
-  m.finish = artix::unit_finish_cycles(p, work);
-  for (int c = 0; c < device::kLineWidth; ++c)
-    m.takes.push_back(work.start[static_cast<std::size_t>(c) + 1] > work.start[static_cast<std::size_t>(c)]);
-  return m;
-}
 
 struct Stats {
   int lines = 0, columns = 0, late = 0, samples = 0, entries = 0, cuts = 0, walks = 0, far = 0, converged = 0;
@@ -125,7 +95,6 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
   // The memories' registered reads: what was asked last cycle.
   int tile_q = 0, pos_q = 0, mem_q = 0, node_q = 0;
   bool bound_q = false;
-  const auto clamp = [](int i, std::size_t n) { return std::clamp(i, 0, std::max(0, static_cast<int>(n) - 1)); };
 
   for (std::size_t l = 0; l < lines.size(); ++l) {
     const ModelLine& m = lines[l];
@@ -150,21 +119,17 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
       t->px_we = 0;
       if (l + 1 < lines.size() && cyc >= 1 && cyc <= slots) write_pixel(lines[l + 1], static_cast<int>(cyc - 1));
       // The memories.
-      const std::span<const int> list = m.tiles.list(tile_q);
-      t->tile_count = static_cast<SData>(list.size());
-      t->tile_sphere = static_cast<CData>(pos_q < static_cast<int>(list.size()) ? list[static_cast<std::size_t>(pos_q)] : 0);
-      const artix::UnitSphere& s = bound_q && !world.nodes.empty()
-                                       ? world.nodes[static_cast<std::size_t>(clamp(mem_q, world.nodes.size()))].bound
-                                       : world.spheres[static_cast<std::size_t>(clamp(mem_q, world.spheres.size()))];
-      put(t->mem_c, pack3(s.c, sphere_unit::kCoordW));
-      put(t->mem_e, static_cast<UInt128>(s.e) & 0x3f);
-      put(t->mem_r2s, static_cast<UInt128>(s.r2s));
-      if (!world.nodes.empty()) {
-        const artix::UnitNode& v = world.nodes[static_cast<std::size_t>(clamp(node_q, world.nodes.size()))];
-        t->node_first_sphere = static_cast<CData>(v.first_sphere);
-        t->node_spheres = static_cast<CData>(v.spheres);
-        t->node_first_child = static_cast<CData>(v.first_child);
-        t->node_children = static_cast<CData>(v.children);
+      const path::UnitReads r = path::unit_reads(m, world, tile_q, pos_q, mem_q, bound_q, node_q);
+      t->tile_count = static_cast<SData>(r.tile_count);
+      t->tile_sphere = static_cast<CData>(r.tile_sphere);
+      put(t->mem_c, pack3(r.sphere->c, sphere_unit::kCoordW));
+      put(t->mem_e, static_cast<UInt128>(r.sphere->e) & 0x3f);
+      put(t->mem_r2s, static_cast<UInt128>(r.sphere->r2s));
+      if (r.node != nullptr) {
+        t->node_first_sphere = static_cast<CData>(r.node->first_sphere);
+        t->node_spheres = static_cast<CData>(r.node->spheres);
+        t->node_first_child = static_cast<CData>(r.node->first_child);
+        t->node_children = static_cast<CData>(r.node->children);
       }
       // The bounce stage's next ray, or its word that a path is over, in the cycle before it is known.
       t->ray_valid = 0;
@@ -281,24 +246,16 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
 void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32_t frame_no,
                const std::vector<int>& rows, Stats& stats, bool converge_some = false) {
   const device::DevicePreset p = device::artix_path_preset();
-  const artix::UnitWorld world = artix::prepare_world(scene);
-  stats.walks += !world.nodes.empty();
-  std::vector<device::PathSurface> surfaces;
-  for (const auto& w : scene.surfaces) surfaces.push_back(device::path_surface(w));
-  device::PathFrame frame;
-  frame.surfaces = surfaces;
-  frame.frame = frame_no;
-  frame.epoch = 1;
-  frame.spp = spp;
-  frame.depth = depth;
+  const path::PathScene s = path::path_scene(scene, spp, depth, frame_no);
+  stats.walks += !s.world.nodes.empty();
   std::vector<ModelLine> lines;
   for (const int row : rows) {
     std::vector<device::AccumEntry> memory(device::kLineWidth);
     if (converge_some)
       for (std::size_t c = 0; c < memory.size(); c += 3) memory[c] = {{0, 0, 0}, 255, 1};  // converged
-    lines.push_back(model_line(p, world, row, frame, memory));
+    lines.push_back(path::model_line(p, s.world, row, s.frame, memory));
   }
-  for (const int unit : {0, 4, 8}) run_lines(p, world, frame, unit, lines, stats);
+  for (const int unit : {0, 4, 8}) run_lines(p, s.world, s.frame, unit, lines, stats);
 }
 
 TEST(PathUnitRtl, WorldsWithAHierarchyWalkItLineByLineAsTheModel) {

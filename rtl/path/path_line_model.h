@@ -1,0 +1,100 @@
+// What the tests of the path units share (path_unit_rtl_test, path_core_rtl_test): a world as the device holds it
+// with its frame, one line of the model with every sample's rays and hits, and the memories a unit reads (the row's
+// tile lists, scene memory, node memory) as the test bench serves them, each a registered read.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include <tripsitter/device/artix_units.h>
+#include <tripsitter/device/path_kernel.h>
+#include <tripsitter/device/preset.h>
+
+namespace tripsitter::rtl::path {
+
+namespace artix = device::artix;
+
+// A world as the device holds it, and its frame (whose surfaces are a view of `surfaces`: moved, never copied).
+struct PathScene {
+  PathScene() = default;
+  PathScene(const PathScene&) = delete;
+  PathScene& operator=(const PathScene&) = delete;
+  PathScene(PathScene&&) = default;
+  PathScene& operator=(PathScene&&) = default;
+  artix::UnitWorld world;
+  std::vector<device::PathSurface> surfaces;
+  device::PathFrame frame;
+};
+inline PathScene path_scene(const device::SceneMemory& scene, int spp, int depth, std::uint32_t frame_no) {
+  PathScene s;
+  s.world = artix::prepare_world(scene);
+  for (const auto& w : scene.surfaces) s.surfaces.push_back(device::path_surface(w));
+  s.frame.surfaces = s.surfaces;
+  s.frame.frame = frame_no;
+  s.frame.epoch = 1;
+  s.frame.spp = spp;
+  s.frame.depth = depth;
+  return s;
+}
+
+// One line of the model: its tile lists, its columns' finish cycles, which columns take samples, and each sample's
+// rays with their hits, in the order traced.
+struct ModelLine {
+  int row = 0;
+  artix::RowTiles tiles;
+  std::vector<std::int64_t> finish;
+  std::vector<bool> takes;                                                          // a column
+  std::vector<std::vector<std::vector<std::pair<artix::PathUnitRay, artix::PathUnitHit>>>> paths;  // [col][sample]
+};
+
+inline ModelLine model_line(const device::DevicePreset& p, const artix::UnitWorld& world, int row,
+                            const device::PathFrame& frame, const std::vector<device::AccumEntry>& memory) {
+  ModelLine m;
+  m.row = row;
+  m.tiles = artix::row_tiles(world, row, p.units->tile_columns);
+  m.paths.resize(device::kLineWidth);
+  artix::LineChains work;
+  std::vector<device::PathPixel> pixels(device::kLineWidth);
+  device::PathCounters counters;
+  const artix::RayObserver observe = [&](int col, const artix::PathUnitRay& ray, const artix::PathUnitHit& hit) {
+    // The sample being traced: the column's chains so far.
+    const std::size_t sample = work.chain_start.size() - 1 - static_cast<std::size_t>(work.start.back());
+    auto& samples = m.paths[static_cast<std::size_t>(col)];
+    if (samples.size() <= sample) samples.resize(sample + 1);
+    samples[sample].push_back({ray, hit});
+  };
+  artix::path_line_chains(p, world, row, frame, memory, pixels, counters, artix::Search::kAll, work, &observe);
+  m.finish = artix::unit_finish_cycles(p, work);
+  for (int c = 0; c < device::kLineWidth; ++c)
+    m.takes.push_back(work.start[static_cast<std::size_t>(c) + 1] > work.start[static_cast<std::size_t>(c)]);
+  return m;
+}
+
+// What a unit's memories give for the addresses it asked last cycle: the tile list's length and entry, the sphere
+// or bound, the node (none in a world without a hierarchy).
+struct UnitReads {
+  int tile_count = 0, tile_sphere = 0;
+  const artix::UnitSphere* sphere = nullptr;
+  const artix::UnitNode* node = nullptr;
+};
+inline UnitReads unit_reads(const ModelLine& m, const artix::UnitWorld& world, int tile, int pos, int mem,
+                            bool bound, int node) {
+  const auto clamp = [](int i, std::size_t n) {
+    return static_cast<std::size_t>(std::clamp(i, 0, std::max(0, static_cast<int>(n) - 1)));
+  };
+  UnitReads r;
+  // A tile beyond the row's (a register's value before the unit first asks) reads as an empty list.
+  const int tiles = static_cast<int>(m.tiles.start.size()) - 1;
+  const std::span<const int> list = tile < tiles ? m.tiles.list(tile) : std::span<const int>();
+  r.tile_count = static_cast<int>(list.size());
+  r.tile_sphere = pos < r.tile_count ? list[static_cast<std::size_t>(pos)] : 0;
+  r.sphere = bound && !world.nodes.empty() ? &world.nodes[clamp(mem, world.nodes.size())].bound
+                                           : &world.spheres[clamp(mem, world.spheres.size())];
+  if (!world.nodes.empty()) r.node = &world.nodes[clamp(node, world.nodes.size())];
+  return r;
+}
+
+}  // namespace tripsitter::rtl::path
