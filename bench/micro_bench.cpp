@@ -73,12 +73,12 @@ void BM_NormalFastFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_NormalFastFrame)->Arg(1)->Arg(16)->Arg(64)->Arg(488)->Unit(benchmark::kMillisecond);
 
-// One frame of the path preset through the whole board (host -> link -> device -> VGA capture), random-N, the
-// device on one thread: the single-thread figure of `tripsitter bench`'s hw_path_fps_64. The camera orbits half a
-// degree back and forth, so that every frame is a new world's first and no pixel stops at 255 samples.
-void BM_BoardPathFrame(benchmark::State& state) {
+// One frame of a path-tracing preset through the whole board (host -> link -> device -> VGA capture), random-N, the
+// device on one thread. The camera orbits half a degree back and forth, so that every frame is a new world's first
+// and no pixel stops at 255 samples.
+void board_path_frame(benchmark::State& state, const device::DevicePreset& preset) {
   board::BoardConfig config;
-  config.preset = device::path_preset();
+  config.preset = preset;
   config.device_threads = 1;
   board::Board b(scene::random_spheres(static_cast<int>(state.range(0)), 1), config);
   double step = 0.5;
@@ -89,23 +89,14 @@ void BM_BoardPathFrame(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations() * 640 * 480);
 }
+
+// The path preset: the single-thread figure of `tripsitter bench`'s hw_path_fps_64.
+void BM_BoardPathFrame(benchmark::State& state) { board_path_frame(state, device::path_preset()); }
 BENCHMARK(BM_BoardPathFrame)->Arg(64)->Unit(benchmark::kMillisecond);
 
-// The same on the artix path preset's sphere units (docs/device.md, "Path tracing on the artix datapath"): the
-// single-thread figure of `tripsitter bench --scene random-64 --mode hw --preset artix-path`.
-void BM_BoardArtixPathFrame(benchmark::State& state) {
-  board::BoardConfig config;
-  config.preset = device::artix_path_preset();
-  config.device_threads = 1;
-  board::Board b(scene::random_spheres(static_cast<int>(state.range(0)), 1), config);
-  double step = 0.5;
-  for (auto _ : state) {
-    b.host().camera().orbit(step);
-    step = -step;
-    benchmark::DoNotOptimize(b.show());
-  }
-  state.SetItemsProcessed(state.iterations() * 640 * 480);
-}
+// The artix path preset's sphere units (docs/device.md, "Path tracing on the artix datapath"): the single-thread
+// figure of `tripsitter bench --scene random-64 --mode hw --preset artix-path`.
+void BM_BoardArtixPathFrame(benchmark::State& state) { board_path_frame(state, device::artix_path_preset()); }
 BENCHMARK(BM_BoardArtixPathFrame)->Arg(64)->Unit(benchmark::kMillisecond);
 
 // The artix units' filter (device/artix_batch.h) as a bounced ray's walk calls it: random-64 as the host sends it

@@ -32,10 +32,7 @@ UnitRay random_ray(std::mt19937_64& rng, std::span<const UnitSphere> spheres) {
     return {{}, camera_direction(static_cast<int>(rng() % 640), static_cast<int>(rng() % 480))};
   }
   if (kind == 1) {
-    const UnitSphere& s = spheres[rng() % spheres.size()];
-    const Vec3i n = unit_direction({component(rng), component(rng), component(rng)});
-    for (std::size_t c = 0; c < 3; ++c)
-      ray.o[c] = std::clamp(s.c[c] + ((n[c] * s.r) >> kDirectionFrac), -(std::int64_t{1} << 22), std::int64_t{1} << 22);
+    ray.o = testing::point_on(spheres[rng() % spheres.size()], rng);
   } else {
     ray.o = {coordinate(rng), coordinate(rng), coordinate(rng)};
   }

@@ -149,10 +149,7 @@ UnitRay random_ray(std::mt19937_64& rng, std::span<const UnitSphere> spheres, in
   std::uniform_int_distribution<std::int64_t> component(-30000, 30000);
   UnitRay ray;
   if (from >= 0 && k % 2 == 0) {
-    const UnitSphere& s = spheres[static_cast<std::size_t>(from)];
-    const Vec3i n = unit_direction({component(rng), component(rng), component(rng)});
-    for (std::size_t c = 0; c < 3; ++c)
-      ray.o[c] = std::clamp(s.c[c] + ((n[c] * s.r) >> kDirectionFrac), -(std::int64_t{1} << 22), std::int64_t{1} << 22);
+    ray.o = testing::point_on(spheres[static_cast<std::size_t>(from)], rng);
   } else {
     ray.o = {coordinate(rng), coordinate(rng), coordinate(rng)};
   }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <random>
 #include <vector>
 
@@ -190,6 +191,26 @@ TEST(ArtixSchedule, AReflectedRayWaitsWhileTheUnitTakesItsNextPixel) {
   EXPECT_EQ(finish[6], 62);
 }
 
+using Pass = artix::LineChains::Pass;
+using Chain = std::vector<Pass>;
+
+// A line's work: column c's chains are columns[c] (none for a column not named), in order.
+artix::LineChains line_of(const std::map<int, std::vector<Chain>>& columns) {
+  artix::LineChains work;
+  for (int c = 0; c < kLineWidth; ++c) {
+    work.start.push_back(static_cast<int>(work.chain_start.size()));
+    if (const auto it = columns.find(c); it != columns.end()) {
+      for (const Chain& chain : it->second) {
+        work.chain_start.push_back(static_cast<int>(work.passes.size()));
+        work.passes.insert(work.passes.end(), chain.begin(), chain.end());
+      }
+    }
+  }
+  work.start.push_back(static_cast<int>(work.chain_start.size()));
+  work.chain_start.push_back(static_cast<int>(work.passes.size()));
+  return work;
+}
+
 // The artix path preset's line: a column's samples are chains of their own, a bounce waits for the bounce stage,
 // and a converged pixel takes no issue slot. One unit per two columns, 10 spheres, the artix path preset's
 // latencies (hit 40, bounce stage 51, colour 16), each unit with a bounce stage of its own.
@@ -200,23 +221,11 @@ TEST(ArtixSchedule, SamplesAreChainsAndAConvergedPixelTakesNoSlot) {
   ASSERT_EQ(p.units->hit_latency, 40);
   ASSERT_EQ(p.units->reflect_latency, 51);
   ASSERT_EQ(p.units->shade_latency, 16);
-  using Pass = artix::LineChains::Pass;
-  artix::LineChains work;
-  const auto chain = [&](std::initializer_list<Pass> passes) {
-    work.chain_start.push_back(static_cast<int>(work.passes.size()));
-    work.passes.insert(work.passes.end(), passes);
-  };
-  for (int c = 0; c < kLineWidth; ++c) {
-    work.start.push_back(static_cast<int>(work.chain_start.size()));
-    if (c == 5) {  // two samples: one bounces once, both then escape
-      chain({{10, 0, true}, {10, 0, true}});
-      chain({{10, 0, true}});
-    }
-    if (c == 325 || c == 326) chain({{10, 0, true}});  // a sample that meets nothing
-  }
-  work.start.push_back(static_cast<int>(work.chain_start.size()));
-  work.chain_start.push_back(static_cast<int>(work.passes.size()));
-  const auto finish = artix::unit_finish_cycles(p, work);
+  const Chain escape{{10, 0, true}};  // a sample that meets nothing
+  const auto finish = artix::unit_finish_cycles(
+      p, line_of({{5, {{{10, 0, true}, {10, 0, true}}, escape}},  // two samples: one bounces once, both then escape
+                  {325, {escape}},
+                  {326, {escape}}}));
   // Unit 5: column 5's first sample issues [0, 10), its hit is known at 50 and its bounce waits from 101; its
   // second sample issues [10, 20), known at 60, its light out at 111; column 325 issues [20, 30), known at 70,
   // light at 121, done at 137; the bounce issues [101, 111), known at 151, light at 202: column 5 is done at 218,
@@ -234,17 +243,10 @@ TEST(ArtixSchedule, AWalksNextLevelFollowsItsHitsWithoutTheBounceStage) {
   DevicePreset p = artix_path_preset();
   p.workers = 320;
   p.units->shared_bounce = false;
-  using Pass = artix::LineChains::Pass;
-  artix::LineChains work;
-  for (int c = 0; c < kLineWidth; ++c) {
-    work.start.push_back(static_cast<int>(work.chain_start.size()));
-    work.chain_start.push_back(static_cast<int>(work.passes.size()));
-    work.passes.push_back({4, 0, true});
-    if (c == 5) work.passes.insert(work.passes.end(), {Pass{9, 0, false}, Pass{16, 1, true}});  // bounds, spheres
-  }
-  work.start.push_back(static_cast<int>(work.chain_start.size()));
-  work.chain_start.push_back(static_cast<int>(work.passes.size()));
-  const auto finish = artix::unit_finish_cycles(p, work);
+  std::map<int, std::vector<Chain>> columns;
+  for (int c = 0; c < kLineWidth; ++c) columns[c] = {{{4, 0, true}}};
+  columns[5] = {{{4, 0, true}, {9, 0, false}, {16, 1, true}}};  // the bounce's walk: bounds, then spheres
+  const auto finish = artix::unit_finish_cycles(p, line_of(columns));
   // Unit 5: column 5's camera ray issues [0, 4), known at 44; column 325 issues [4, 8), known at 48, light at 99,
   // done at 115. The bounce's bounds wait from 95 and issue [95, 104), known at 144; its spheres' level waits
   // from 145 (walk_wait), reads its first node then (the walk's lead) and issues [146, 162), known at 202, light at
@@ -260,21 +262,9 @@ TEST(ArtixSchedule, TheSharedBounceStageTakesAUnitsHitsInItsOwnCycles) {
   DevicePreset p = artix_path_preset();
   p.workers = 8;  // unit 1's cycles at the stage: 1, 9, 17, ..., 41, 49, 57, 65, 73
   ASSERT_TRUE(p.units->shared_bounce);
-  using Pass = artix::LineChains::Pass;
-  artix::LineChains work;
-  for (int c = 0; c < kLineWidth; ++c) {
-    work.start.push_back(static_cast<int>(work.chain_start.size()));
-    if (c == 25) {  // a path cut at its first hit
-      work.chain_start.push_back(static_cast<int>(work.passes.size()));
-      work.passes.push_back(Pass{3, 0, false});
-    } else if (c == 1 || c == 9 || c == 17 || c == 33) {  // a camera ray that escapes
-      work.chain_start.push_back(static_cast<int>(work.passes.size()));
-      work.passes.push_back(Pass{3, 0, true});
-    }
-  }
-  work.start.push_back(static_cast<int>(work.chain_start.size()));
-  work.chain_start.push_back(static_cast<int>(work.passes.size()));
-  const auto finish = artix::unit_finish_cycles(p, work);
+  const Chain escape{{3, 0, true}}, cut{{3, 0, false}};  // a camera ray that escapes; a path cut at its first hit
+  const auto finish = artix::unit_finish_cycles(
+      p, line_of({{1, {escape}}, {9, {escape}}, {17, {escape}}, {25, {cut}}, {33, {escape}}}));
   // Unit 1's camera rays issue [0, 3), [3, 6), [6, 9), [9, 12) (the cut, column 25), [12, 15): known at 43, 46, 49,
   // 52 and 55. Column 1's enters at 49, column 9's at 57 (49 is taken), column 17's at 65 although it was known in
   // a cycle of the unit's (49), column 33's at 73 (the cut took no cycle of the stage); each colour 51 + 16 later.
@@ -293,19 +283,11 @@ TEST(ArtixSchedule, ACameraRayWaitsForAPathToEndWhenTheUnitHoldsItsPaths) {
   p.units->shared_bounce = false;
   ASSERT_EQ(p.units->paths, 32);
   p.units->paths = 1;
-  using Pass = artix::LineChains::Pass;
-  artix::LineChains work;
-  for (int c = 0; c < kLineWidth; ++c) {
-    work.start.push_back(static_cast<int>(work.chain_start.size()));
-    if (c == 5 || c == 6 || c == 325 || c == 326) {
-      work.chain_start.push_back(static_cast<int>(work.passes.size()));
-      if (c == 5) work.passes.insert(work.passes.end(), {Pass{10, 0, true}, Pass{10, 0, true}});  // a bounce
-      else work.passes.push_back(Pass{10, 0, c != 6});  // column 6: cut at its first hit
-    }
-  }
-  work.start.push_back(static_cast<int>(work.chain_start.size()));
-  work.chain_start.push_back(static_cast<int>(work.passes.size()));
-  const auto finish = artix::unit_finish_cycles(p, work);
+  const Chain escape{{10, 0, true}};
+  const auto finish = artix::unit_finish_cycles(p, line_of({{5, {{{10, 0, true}, {10, 0, true}}}},  // a bounce
+                                                            {6, {{{10, 0, false}}}},  // cut at its first hit
+                                                            {325, {escape}},
+                                                            {326, {escape}}}));
   // Unit 5: column 5 issues [0, 10), known at 50, its bounce waits from 101 and issues [101, 111), known at 151,
   // light at 202: over. Column 325 then issues [202, 212), known at 252, light at 303.
   EXPECT_EQ(finish[5], 202 + 16);

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include <tripsitter/device/artix_path.h>
 #include <tripsitter/device/device.h>
 #include <tripsitter/device/fast_tracer.h>
 #include <tripsitter/device/receiver.h>
@@ -282,6 +283,16 @@ inline SceneMemory random_path_world(const DevicePreset& p, std::mt19937_64& rng
   m.surfaces.clear();
   for (std::size_t i = 0; i < m.geometry.size(); ++i) m.surfaces.push_back(random_path_surface(rng));
   return m;
+}
+
+// A point on sphere s's surface (a bounce's origin) in a random direction, in the artix formats.
+inline artix::Vec3i point_on(const artix::UnitSphere& s, std::mt19937_64& rng) {
+  std::uniform_int_distribution<std::int64_t> component(-30000, 30000);
+  const artix::Vec3i n = artix::unit_direction({component(rng), component(rng), component(rng)});
+  artix::Vec3i o{};
+  for (std::size_t c = 0; c < 3; ++c)
+    o[c] = std::clamp(s.c[c] + ((n[c] * s.r) >> artix::kDirectionFrac), -(std::int64_t{1} << 22), std::int64_t{1} << 22);
+  return o;
 }
 
 }  // namespace tripsitter::device::testing
