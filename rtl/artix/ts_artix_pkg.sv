@@ -50,5 +50,6 @@ package ts_artix_pkg;
   localparam int DiscW = 37;           // r2s - F.F: above -3 2^34, below 2^34
   localparam int SqrtW = 17;           // floor(sqrt(disc)), unsigned, below 2^17
   localparam int TdW = 45;             // t d = bd - (s << (17 + e)), times 2^17
+  localparam int HitFW = 39;           // a hit's f_k, signed: at a hit |f| <= r 2^17 < 2^38
 endpackage
 /* verilator lint_on UNUSEDPARAM */

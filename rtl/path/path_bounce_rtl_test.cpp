@@ -36,13 +36,16 @@ namespace {
 
 namespace artix = device::artix;
 using sphere_unit::kDirW;
-using sphere_unit::kFW;
 using sphere_unit::kOriginW;
 using sphere_unit::pack3;
 
 constexpr int kLatency = 49;    // ts_path_bounce's Latency
 constexpr int kSurfaceRead = 2;  // its surface port's
 constexpr int kUnits = 9, kPaths = 32;
+constexpr int kHitFW = 39;     // ts_artix_pkg::HitFW: a hit's f_k fits it
+// Junk for a port has the port's width: Verilator keeps the bits above it of a port's word zero, and a wider value
+// there would spill into the fields a concatenation puts above the port's.
+constexpr std::uint64_t kTdMask = (std::uint64_t{1} << sphere_unit::kTdW) - 1;
 
 artix::Vec3i unpack3(UInt128 v, int bits) {
   artix::Vec3i out{};
@@ -193,13 +196,13 @@ void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32
           const artix::UnitSphere& s = world.spheres[static_cast<std::size_t>(p.hit.index)];
           const artix::Quadratic q = artix::quadratic(p.ray.ray, s);
           put(t->in_td, static_cast<UInt128>(p.hit.td));
-          put(t->in_bd, static_cast<UInt128>(q.bd));
-          for (int k = 0; k < 3; ++k) set_bits(t->in_f, k * kFW, kFW, q.f[static_cast<std::size_t>(k)]);
+          put(t->in_beta, static_cast<UInt128>(q.bd) & 0x1FFFF);  // b d's fraction
+          for (int k = 0; k < 3; ++k) set_bits(t->in_f, k * kHitFW, kHitFW, q.f[static_cast<std::size_t>(k)]);
           put(t->in_s, static_cast<UInt128>(q.s));
           put(t->in_e, static_cast<UInt128>(s.e) & 0x3f);
           stats.far += p.hit.inside;
         } else {
-          put(t->in_td, static_cast<UInt128>(rng()));  // a miss's hit fields are junk
+          put(t->in_td, static_cast<UInt128>(rng() & kTdMask));  // a miss's hit fields are junk
         }
         const auto draw = [&] { return p.rng.next(); };
         device::PathBounces bounces;
@@ -209,7 +212,7 @@ void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32
              artix::bounce_stage(p.ray, p.hit, world.spheres, surfaces, p.throughput, draw, counters, bounces)});
         ++stats.entries;
       } else {
-        put(t->in_td, static_cast<UInt128>(rng()));
+        put(t->in_td, static_cast<UInt128>(rng() & kTdMask));
         t->in_index = static_cast<CData>(rng());
       }
       t->clk = 0;

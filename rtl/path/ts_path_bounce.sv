@@ -54,8 +54,8 @@ module ts_path_bounce #(
     input  logic [AW-1:0]        in_index,
     input  logic                 in_far,
     input  logic [ts_artix_pkg::TdW-1:0]   in_td,
-    input  logic [ts_artix_pkg::BdW-1:0]   in_bd,
-    input  logic [3*ts_artix_pkg::FW-1:0]  in_f,
+    input  logic [ts_artix_pkg::DirFrac-1:0]   in_beta,  // b d's fraction (its low bits)
+    input  logic [3*ts_artix_pkg::HitFW-1:0]   in_f,     // each f_k's low HitFW bits: a hit's fits them
     input  logic [ts_artix_pkg::SqrtW-1:0] in_s,
     input  logic [ts_artix_pkg::ExpW-1:0]  in_e,
     // The hit sphere's surface (PathSurface) and 1 / r: asked for in a hit's cycle 0, on the ports in its cycle 2.
@@ -104,7 +104,9 @@ module ts_path_bounce #(
 
   // ---- 1: the entry register ------------------------------------------------------------------------------------
   localparam int NameW = UW + IdW + 10 + 5 + 4;  // unit, path, col, sample, rays
-  localparam int GeoW = 3 * OriginW + 3 * DirW + ts_artix_pkg::TdW + ts_artix_pkg::BdW + 3 * ts_artix_pkg::FW +
+  localparam int BetaW = ts_artix_pkg::DirFrac;
+  localparam int HitFW = ts_artix_pkg::HitFW;
+  localparam int GeoW = 3 * OriginW + 3 * DirW + ts_artix_pkg::TdW + BetaW + 3 * HitFW +
                         ts_artix_pkg::SqrtW + ts_artix_pkg::ExpW + 1;
   logic [NameW-1:0] name1_q;
   logic             hit1_q;
@@ -114,7 +116,7 @@ module ts_path_bounce #(
     name1_q  <= {in_unit, in_path, in_col, in_sample, in_rays};
     hit1_q   <= in_hit;
     index1_q <= in_index;
-    geo1_q   <= {in_o, in_d, in_td, in_bd, in_f, in_s, in_e, in_far};
+    geo1_q   <= {in_o, in_d, in_td, in_beta, in_f, in_s, in_e, in_far};
     geo2_q   <= geo1_q;
   end
   logic [UW-1:0]  unit1;
@@ -180,12 +182,20 @@ module ts_path_bounce #(
   logic [3*OriginW-1:0] o2;
   logic [3*DirW-1:0]    d2;
   logic [ts_artix_pkg::TdW-1:0]   td2;
-  logic [ts_artix_pkg::BdW-1:0]   bd2;
-  logic [3*ts_artix_pkg::FW-1:0]  f2;
+  logic [BetaW-1:0]               beta2;
+  logic [3*HitFW-1:0]             f2;
   logic [ts_artix_pkg::SqrtW-1:0] s2;
   logic [ts_artix_pkg::ExpW-1:0]  e2;
   logic                           far2;
-  assign {o2, d2, td2, bd2, f2, s2, e2, far2} = geo2_q;
+  assign {o2, d2, td2, beta2, f2, s2, e2, far2} = geo2_q;
+  // The hit block's b d (it reads the fraction only) and f_k (sign-extended).
+  localparam int FW = ts_artix_pkg::FW;
+  logic [ts_artix_pkg::BdW-1:0] bd2;
+  logic [3*FW-1:0]              fx2;
+  assign bd2 = {(ts_artix_pkg::BdW - BetaW)'(0), beta2};
+  for (genvar k = 0; k < 3; k++) begin : g_f
+    assign fx2[k*FW+:FW] = {{(FW - HitFW){f2[k*HitFW+HitFW-1]}}, f2[k*HitFW+:HitFW]};
+  end
 
   logic [3*OriginW-1:0] point10;
   logic [3*17-1:0]      normal14, dir14;
@@ -200,7 +210,7 @@ module ts_path_bounce #(
       .in_d        (d2),
       .in_td       (td2),
       .in_bd       (bd2),
-      .in_f        (f2),
+      .in_f        (fx2),
       .in_s        (s2),
       .in_e        (e2),
       .in_rinv     (surf_rinv),

@@ -88,11 +88,11 @@ module ts_path_core #(
     output logic                   overflow
 );
   localparam int TdW = ts_artix_pkg::TdW;
-  localparam int BdW = ts_artix_pkg::BdW;
-  localparam int FW = ts_artix_pkg::FW;
+  localparam int BetaW = ts_artix_pkg::DirFrac;
+  localparam int HitFW = ts_artix_pkg::HitFW;
   localparam int SqrtW = ts_artix_pkg::SqrtW;
-  // A unit's stage port, flat: {o, d, rays, tag, hit, index, far, td, bd, f, s, e}.
-  localparam int PortW = 3 * OriginW + 3 * DirW + 4 + TagW + 1 + AW + 1 + TdW + BdW + 3 * FW + SqrtW + ExpW;
+  // A unit's stage port, flat: {o, d, rays, tag, hit, index, far, td, beta, f, s, e}.
+  localparam int PortW = 3 * OriginW + 3 * DirW + 4 + TagW + 1 + AW + 1 + TdW + BetaW + 3 * HitFW + SqrtW + ExpW;
 
   if (N > 16) begin : g_bad_n
     $error("ts_path_core: the units' turn counts up to 16 units");
@@ -127,8 +127,8 @@ module ts_path_core #(
     logic                 hit, far;
     logic [AW-1:0]        index;
     logic [TdW-1:0]       td;
-    logic [BdW-1:0]       bd;
-    logic [3*FW-1:0]      f;
+    logic [BetaW-1:0]     beta;
+    logic [3*HitFW-1:0]   f;
     logic [SqrtW-1:0]     s;
     logic [ExpW-1:0]      e;
     ts_path_unit #(
@@ -184,7 +184,7 @@ module ts_path_core #(
         .stage_index      (index),
         .stage_far        (far),
         .stage_td         (td),
-        .stage_bd         (bd),
+        .stage_beta       (beta),
         .stage_f          (f),
         .stage_s          (s),
         .stage_e          (e),
@@ -192,7 +192,7 @@ module ts_path_core #(
         .cut_tag          (cut_tag[u*TagW+:TagW]),
         .overflow         (unit_overflow[u])
     );
-    assign port[u] = {o, d, rays, tag, hit, index, far, td, bd, f, s, e};
+    assign port[u] = {o, d, rays, tag, hit, index, far, td, beta, f, s, e};
   end
 
   logic             in_valid_q;
@@ -213,11 +213,11 @@ module ts_path_core #(
   logic                 in_hit, in_far;
   logic [AW-1:0]        in_index;
   logic [TdW-1:0]       in_td;
-  logic [BdW-1:0]       in_bd;
-  logic [3*FW-1:0]      in_f;
+  logic [BetaW-1:0]     in_beta;
+  logic [3*HitFW-1:0]   in_f;
   logic [SqrtW-1:0]     in_s;
   logic [ExpW-1:0]      in_e;
-  assign {in_o, in_d, in_rays, in_path, in_col, in_sample, in_hit, in_index, in_far, in_td, in_bd, in_f, in_s,
+  assign {in_o, in_d, in_rays, in_path, in_col, in_sample, in_hit, in_index, in_far, in_td, in_beta, in_f, in_s,
           in_e} = in_q;
 
   ts_path_bounce #(
@@ -241,7 +241,7 @@ module ts_path_core #(
       .in_index,
       .in_far,
       .in_td,
-      .in_bd,
+      .in_beta,
       .in_f,
       .in_s,
       .in_e,

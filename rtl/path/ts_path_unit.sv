@@ -115,8 +115,8 @@ module ts_path_unit #(
     output logic [AW-1:0]          stage_index,
     output logic                   stage_far,
     output logic [ts_artix_pkg::TdW-1:0]     stage_td,
-    output logic [ts_artix_pkg::BdW-1:0]     stage_bd,
-    output logic [3*ts_artix_pkg::FW-1:0]    stage_f,
+    output logic [ts_artix_pkg::DirFrac-1:0] stage_beta,  // b d's fraction, its low bits
+    output logic [3*ts_artix_pkg::HitFW-1:0] stage_f,     // each f_k's low HitFW bits (a hit's fit)
     output logic [ts_artix_pkg::SqrtW-1:0]   stage_s,
     output logic [ts_artix_pkg::ExpW-1:0]    stage_e,
     // A path cut at its last ray's hit.
@@ -130,6 +130,8 @@ module ts_path_unit #(
   localparam int TdW = ts_artix_pkg::TdW;
   localparam int BdW = ts_artix_pkg::BdW;
   localparam int FW = ts_artix_pkg::FW;
+  localparam int HitFW = ts_artix_pkg::HitFW;
+  localparam int BetaW = ts_artix_pkg::DirFrac;
   localparam int SqrtW = ts_artix_pkg::SqrtW;
   localparam int ExpW = ts_artix_pkg::ExpW;
   localparam int CycW = 12;  // a cycle of the line window (3,200 < 2^12)
@@ -159,14 +161,14 @@ module ts_path_unit #(
     logic [AW-1:0]    index;
     logic             far_side;  // the far side of the sphere the ray is in
     logic [TdW-1:0]   td;
-    logic [BdW-1:0]   bd;
-    logic [3*FW-1:0]  f;
+    logic [BetaW-1:0] beta;  // b d's low bits: all the bounce stage reads of it
+    logic [3*HitFW-1:0] f;   // each f_k's low HitFW bits: a hit's f_k fits them
     logic [SqrtW-1:0] s;
     logic [ExpW-1:0]  e;
   } hit_t;
   // Their widths, field by field (Yosys 0.23 takes no $bits of a type).
   localparam int RayW = 3 * OriginW + 3 * DirW + 1 + AW + 1 + 4 + TagW;
-  localparam int HitW = 1 + AW + 1 + TdW + BdW + 3 * FW + SqrtW + ExpW;
+  localparam int HitW = 1 + AW + 1 + TdW + BetaW + 3 * HitFW + SqrtW + ExpW;
 
   // ---- the line's cycle and the unit's turn at the bounce stage ---------------------------------------------------
   logic [CycW-1:0] cyc_q;
@@ -446,15 +448,25 @@ module ts_path_unit #(
       .pop(hit_valid), .front({flight_id, flight_walk}), .empty(flight_empty), .overflow(flight_overflow)
   );
 
+  // The sphere unit's hit as the bounce stage reads it: b d's fraction and each f_k's low HitFW bits (the rest of
+  // a hit's is sign).
   hit_t          unit_hit;
   logic          entered_valid, entered;
+  /* verilator lint_off UNUSEDSIGNAL */  // b d's integer part, and f_k's sign beyond a hit's HitFW bits
+  logic [BdW-1:0]  unit_bd;
+  logic [3*FW-1:0] unit_f;
+  /* verilator lint_on UNUSEDSIGNAL */
+  for (genvar k = 0; k < 3; k++) begin : g_f
+    assign unit_hit.f[k*HitFW+:HitFW] = unit_f[k*FW+:HitFW];
+  end
+  assign unit_hit.beta = unit_bd[BetaW-1:0];
   ts_artix_sphere_unit #(.CARRY_W(AW), .PATH(1)) unit (
       .clk, .rst(rst || flush),
       .in_first(s2_valid_q && s2_first_q), .in_pair(s2_valid_q && s2_pair_q), .in_end(s2_valid_q && s2_end_q),
       .in_o(s2_o_q), .in_d(s2_d_q), .in_c(mem_c), .in_e(mem_e), .in_r2s(mem_r2s), .in_carry(s2_index_q),
       .in_far(s2_valid_q && s2_far_q), .in_bound(s2_valid_q && s2_bound_q), .in_index(s2_index_q),
-      .out_valid(hit_valid), .out_hit(unit_hit.hit), .out_td(unit_hit.td), .out_bd(unit_hit.bd),
-      .out_f(unit_hit.f), .out_s(unit_hit.s), .out_e(unit_hit.e), .out_carry(unit_hit.index),
+      .out_valid(hit_valid), .out_hit(unit_hit.hit), .out_td(unit_hit.td), .out_bd(unit_bd),
+      .out_f(unit_f), .out_s(unit_hit.s), .out_e(unit_hit.e), .out_carry(unit_hit.index),
       .out_far(unit_hit.far_side), .out_entered_valid(entered_valid), .out_entered(entered)
   );
 
@@ -534,7 +546,7 @@ module ts_path_unit #(
   assign stage_index = out_hit.index;
   assign stage_far   = out_hit.far_side;
   assign stage_td    = out_hit.td;
-  assign stage_bd    = out_hit.bd;
+  assign stage_beta  = out_hit.beta;
   assign stage_f     = out_hit.f;
   assign stage_s     = out_hit.s;
   assign stage_e     = out_hit.e;
