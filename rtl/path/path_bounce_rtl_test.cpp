@@ -31,6 +31,8 @@
 #include <tripsitter/device/preset.h>
 #include <tripsitter/device/test_util.h>
 
+#include "path_line_model.h"
+
 namespace tripsitter::rtl {
 namespace {
 
@@ -79,9 +81,9 @@ struct Stats {
 // The paths of `rows` (every column, `spp` samples) of one world through the stage.
 void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32_t frame_no,
                const std::vector<int>& rows, std::mt19937_64& rng, Stats& stats) {
-  const artix::UnitWorld world = artix::prepare_world(scene);
-  std::vector<device::PathSurface> surfaces;
-  for (const auto& w : scene.surfaces) surfaces.push_back(device::path_surface(w));
+  const path::PathScene held = path::path_scene(scene, spp, depth, frame_no);
+  const artix::UnitWorld& world = held.world;
+  const std::vector<device::PathSurface>& surfaces = held.surfaces;
   const auto closest = [&](const artix::PathUnitRay& r) {
     return artix::with_far_side(r, artix::closest_hit(r.ray, world.spheres, r.from), world.spheres);
   };
@@ -159,18 +161,8 @@ void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32
     for (std::int64_t cyc = 0; over < static_cast<int>(paths.size()) && cyc < limit; ++cyc) {
       // The surface memory: the sphere asked for kSurfaceRead cycles ago.
       if (!surface_asked.empty() && surface_asked.front().first == cyc - kSurfaceRead) {
-        const int s = std::clamp(surface_asked.front().second, 0, static_cast<int>(world.spheres.size()) - 1);
+        path::put_surface(*t, world, surfaces, surface_asked.front().second);
         surface_asked.pop_front();
-        const device::PathSurface& f = surfaces[static_cast<std::size_t>(s)];
-        t->surf_material = f.material;
-        put(t->surf_albedo, static_cast<UInt128>(f.albedo[0]) | static_cast<UInt128>(f.albedo[1]) << 17 |
-                                static_cast<UInt128>(f.albedo[2]) << 34);
-        t->surf_fuzz = f.fuzz;
-        t->surf_eta_enter = static_cast<IData>(f.eta_enter);
-        t->surf_eta_leave = static_cast<IData>(f.eta_leave);
-        t->surf_r0 = static_cast<SData>(f.r0);
-        t->surf_straight = f.passes_straight;
-        t->surf_rinv = static_cast<IData>(world.spheres[static_cast<std::size_t>(s)].rinv);
       }
       // A ray in: one of those ready, at random, in three cycles of four.
       t->in_valid = 0;

@@ -61,16 +61,7 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
   VerilatedContext context;
   context.randReset(2);
   auto t = std::make_unique<Top>(&context);
-  t->spheres = static_cast<SData>(world.spheres.size());
-  t->walks = !world.nodes.empty();
-  if (!world.nodes.empty()) {
-    t->root_first_sphere = static_cast<CData>(world.nodes[0].first_sphere);
-    t->root_spheres = static_cast<CData>(world.nodes[0].spheres);
-    t->root_first_child = static_cast<CData>(world.nodes[0].first_child);
-    t->root_children = static_cast<CData>(world.nodes[0].children);
-  }
-  t->depth = static_cast<CData>(frame.depth);
-  t->spp = static_cast<CData>(frame.spp);
+  path::put_world(*t, world, frame);
   t->sample_base = frame.frame * static_cast<std::uint32_t>(frame.spp);
   t->start = 0;
   t->flush = 0;
@@ -148,19 +139,7 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
           set_bits(t->node_children, u * 8, 8, r.node->children);
         }
       }
-      {
-        const auto s = static_cast<std::size_t>(std::clamp(surf_q[0], 0, static_cast<int>(world.spheres.size()) - 1));
-        const device::PathSurface& f = scene.surfaces[s];
-        t->surf_material = f.material;
-        put(t->surf_albedo, static_cast<UInt128>(f.albedo[0]) | static_cast<UInt128>(f.albedo[1]) << 17 |
-                                static_cast<UInt128>(f.albedo[2]) << 34);
-        t->surf_fuzz = f.fuzz;
-        t->surf_eta_enter = static_cast<IData>(f.eta_enter);
-        t->surf_eta_leave = static_cast<IData>(f.eta_leave);
-        t->surf_r0 = static_cast<SData>(f.r0);
-        t->surf_straight = f.passes_straight;
-        t->surf_rinv = static_cast<IData>(world.spheres[s].rinv);
-      }
+      path::put_surface(*t, world, scene.surfaces, surf_q[0]);
       t->clk = 0;
       t->eval();
 
@@ -206,15 +185,9 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
     // Each column: all its samples over, when the model says its colour is there; or late.
     for (int c = 0; c < device::kLineWidth; ++c) {
       if (!m.takes[static_cast<std::size_t>(c)]) continue;
-      const auto& e = ends[static_cast<std::size_t>(c)];
-      const std::int64_t finish = m.finish[static_cast<std::size_t>(c)];
       ++stats.columns;
-      if (std::all_of(e.begin(), e.end(), [](std::int64_t x) { return x >= 0; })) {
-        EXPECT_EQ(*std::max_element(e.begin(), e.end()) + shade, finish) << "row " << m.row << " column " << c;
-      } else {
-        EXPECT_GT(finish, kLine - 1 + shade) << "row " << m.row << " column " << c;
-        ++stats.late;
-      }
+      stats.late += path::column_late(ends[static_cast<std::size_t>(c)], m.finish[static_cast<std::size_t>(c)], shade,
+                                      kLine, m.row, c);
     }
     ++stats.lines;
   }

@@ -1,6 +1,7 @@
-// What the tests of the path units share (path_unit_rtl_test, path_core_rtl_test): a world as the device holds it
-// with its frame, one line of the model with every sample's rays and hits, and the memories a unit reads (the row's
-// tile lists, scene memory, node memory) as the test bench serves them, each a registered read.
+// What the tests of the path units and the bounce stage share (path_unit_rtl_test, path_bounce_rtl_test,
+// path_core_rtl_test): a world as the device holds it with its frame, and on a block's ports; one line of the model
+// with every sample's rays and hits; the memories a unit reads (the row's tile lists, scene memory, node memory) as
+// the test bench serves them, each a registered read, and the stage's surfaces; a column's end against the model's.
 #pragma once
 
 #include <algorithm>
@@ -8,6 +9,10 @@
 #include <span>
 #include <utility>
 #include <vector>
+
+#include <gtest/gtest.h>
+
+#include "rtl_ports.h"
 
 #include <tripsitter/device/artix_units.h>
 #include <tripsitter/device/path_kernel.h>
@@ -38,6 +43,50 @@ inline PathScene path_scene(const device::SceneMemory& scene, int spp, int depth
   s.frame.spp = spp;
   s.frame.depth = depth;
   return s;
+}
+
+// The world and the frame's path rules on the ports of a unit or of the core.
+template <class Top>
+void put_world(Top& t, const artix::UnitWorld& world, const device::PathFrame& frame) {
+  t.spheres = static_cast<SData>(world.spheres.size());
+  t.walks = !world.nodes.empty();
+  if (!world.nodes.empty()) {
+    t.root_first_sphere = static_cast<CData>(world.nodes[0].first_sphere);
+    t.root_spheres = static_cast<CData>(world.nodes[0].spheres);
+    t.root_first_child = static_cast<CData>(world.nodes[0].first_child);
+    t.root_children = static_cast<CData>(world.nodes[0].children);
+  }
+  t.depth = static_cast<CData>(frame.depth);
+  t.spp = static_cast<CData>(frame.spp);
+}
+
+// Sphere `s`'s surface and 1 / r on the surface port of the bounce stage or of the core.
+template <class Top>
+void put_surface(Top& t, const artix::UnitWorld& world, std::span<const device::PathSurface> surfaces, int s) {
+  const auto i = static_cast<std::size_t>(std::clamp(s, 0, static_cast<int>(world.spheres.size()) - 1));
+  const device::PathSurface& f = surfaces[i];
+  t.surf_material = f.material;
+  put(t.surf_albedo, static_cast<UInt128>(f.albedo[0]) | static_cast<UInt128>(f.albedo[1]) << 17 |
+                         static_cast<UInt128>(f.albedo[2]) << 34);
+  t.surf_fuzz = f.fuzz;
+  t.surf_eta_enter = static_cast<IData>(f.eta_enter);
+  t.surf_eta_leave = static_cast<IData>(f.eta_leave);
+  t.surf_r0 = static_cast<SData>(f.r0);
+  t.surf_straight = f.passes_straight;
+  t.surf_rinv = static_cast<IData>(world.spheres[i].rinv);
+}
+
+// A column whose samples ended in the cycles `ends` (-1: not over when the line's window of `line` cycles closed):
+// over exactly when the model puts its colour (`finish`, shade_latency after its last end), or late in the model
+// too (a sample not over by the window's last cycle would end after it at the earliest). Returns whether it is late.
+inline bool column_late(const std::vector<std::int64_t>& ends, std::int64_t finish, int shade, int line, int row,
+                        int col) {
+  if (std::all_of(ends.begin(), ends.end(), [](std::int64_t x) { return x >= 0; })) {
+    EXPECT_EQ(*std::max_element(ends.begin(), ends.end()) + shade, finish) << "row " << row << " column " << col;
+    return false;
+  }
+  EXPECT_GT(finish, line - 1 + shade) << "row " << row << " column " << col;
+  return true;
 }
 
 // One line of the model: its tile lists, its columns' finish cycles, which columns take samples, and each sample's

@@ -61,16 +61,7 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
   auto t = std::make_unique<Vts_path_unit>();
   const int reflect = p.units->reflect_latency, shade = p.units->shade_latency;
   t->unit_id = static_cast<SData>(unit);
-  t->spheres = static_cast<SData>(world.spheres.size());
-  t->walks = !world.nodes.empty();
-  if (!world.nodes.empty()) {
-    t->root_first_sphere = static_cast<CData>(world.nodes[0].first_sphere);
-    t->root_spheres = static_cast<CData>(world.nodes[0].spheres);
-    t->root_first_child = static_cast<CData>(world.nodes[0].first_child);
-    t->root_children = static_cast<CData>(world.nodes[0].children);
-  }
-  t->depth = static_cast<CData>(frame.depth);
-  t->spp = static_cast<CData>(frame.spp);
+  path::put_world(*t, world, frame);
   t->rst = 1;
   for (int i = 0; i < 3; ++i) rising_edge(*t);
   t->rst = 0;
@@ -228,14 +219,7 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
       }
       ++stats.columns;
       stats.samples += static_cast<int>(e.size());
-      const bool over = std::all_of(e.begin(), e.end(), [](std::int64_t x) { return x >= 0; });
-      if (over) {
-        EXPECT_EQ(*std::max_element(e.begin(), e.end()) + shade, want) << "row " << m.row << " column " << c;
-      } else {
-        // A sample not over by the window's last cycle would end, at the earliest, after it.
-        EXPECT_GT(want, kLine - 1 + shade) << "row " << m.row << " column " << c;
-        ++stats.late;
-      }
+      stats.late += path::column_late(e, want, shade, kLine, m.row, c);
     }
     ++stats.lines;
   }
