@@ -7,8 +7,9 @@
 // colour shade_latency after its last. The test bench is the rest of the device: the camera's directions and which
 // pixels take samples (written in the line before), the tile lists, scene memory (spheres and the hierarchy's
 // bounds), node memory, and the bounce stage, which gives back each path's next ray, as the model traced it, or
-// its word that the path is over, in the cycle before reflect_latency after its hit entered. Lines run back to back, 3,200 cycles each with the window's flush at
-// its end: a column whose samples are not all over by then must be one the model finds late.
+// its word that the path is over, in the cycle before reflect_latency after its hit entered (the unit's turn; its
+// port shows the hit registered, in the next cycle). Lines run back to back, 3,200 cycles each with the window's
+// flush at its end: a column whose samples are not all over by then must be one the model finds late.
 #include <algorithm>
 #include <cstdio>
 #include <array>
@@ -169,7 +170,7 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
         ASSERT_TRUE(ray >= 0 && ray < static_cast<int>(rays.size())) << "column " << col << " sample " << sample;
         EXPECT_EQ(seen[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)], ray) << "column " << col;
         seen[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = ray + 1;
-        EXPECT_EQ(cyc % kUnits, unit) << "not the unit's turn";
+        EXPECT_EQ((cyc - 1) % kUnits, unit) << "not the cycle after the unit's turn";
         const auto& [want_ray, want] = rays[static_cast<std::size_t>(ray)];
         const std::string where = "row " + std::to_string(m.row) + " column " + std::to_string(col) + " sample " +
                                   std::to_string(sample) + " ray " + std::to_string(ray);
@@ -184,10 +185,10 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
         }
         ++stats.entries;
         if (ray + 1 < static_cast<int>(rays.size())) {
-          returns.insert({cyc + reflect - 1, {col, sample, ray + 1, static_cast<int>(t->stage_tag)}});
+          returns.insert({cyc + reflect - 2, {col, sample, ray + 1, static_cast<int>(t->stage_tag)}});
         } else {
-          returns.insert({cyc + reflect - 1, {col, sample, -1, static_cast<int>(t->stage_tag)}});
-          ends[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = cyc + reflect;
+          returns.insert({cyc + reflect - 2, {col, sample, -1, static_cast<int>(t->stage_tag)}});
+          ends[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = cyc - 1 + reflect;
         }
       }
       if (t->cut_valid != 0) {

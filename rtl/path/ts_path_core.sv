@@ -3,10 +3,11 @@
 // DeviceUnits::shared_bounce (src/tripsitter/device/artix_units.cpp); docs/rtl.md, "Path tracing blocks".
 //
 // Unit u traces the columns u, u + N, ... of a line. In the line's cycle c the turn is unit c mod N's (each unit
-// counts it too, from `start`): its stage port, a ray's closest hit or miss, goes through the turn's register into
-// the stage, which gives back 49 cycles later the path's next ray, to the unit named with it, or the path's end.
-// That is the schedule's 51 cycles (ts_artix_pkg::BounceLatency): the register, the stage, and the unit's cycle
-// before the ray is known in its queue.
+// counts it too, from `start`): the unit registers what it hands on then, a ray's closest hit or miss (the turn's
+// register), and in the next cycle the core passes that unit's port to the stage, which gives back 49 cycles later
+// the path's next ray, to the unit named with it, or the path's end. That is the schedule's 51 cycles
+// (ts_artix_pkg::BounceLatency): the register, the stage, and the unit's cycle before the ray is known in its
+// queue.
 //
 // Each unit has its own ports to the memories the device replicates (the row's tile lists, scene memory, node
 // memory: unit u's field of a port at [u W +: W]); the stage has the surfaces' port. A sample ends in one of two
@@ -98,10 +99,14 @@ module ts_path_core #(
     $error("ts_path_core: the units' turn counts up to 16 units");
   end
 
-  // ---- the turn: unit c mod N's port into the stage, through a register -----------------------------------------
-  logic [3:0] phase_q;
-  wire  [3:0] phase = start ? 4'd0 : phase_q;
-  always_ff @(posedge clk) phase_q <= phase == 4'(N - 1) ? 4'd0 : phase + 4'd1;
+  // ---- the turn: in cycle c, the port unit c - 1 mod N registered in its turn, into the stage ------------------
+  logic [3:0]    phase_q;
+  logic [UW-1:0] last_q;
+  wire  [3:0]    phase = start ? 4'd0 : phase_q;
+  always_ff @(posedge clk) begin
+    phase_q <= phase == 4'(N - 1) ? 4'd0 : phase + 4'd1;
+    last_q  <= phase[UW-1:0];
+  end
 
   logic [N-1:0]       stage_valid;
   logic [PortW-1:0]   port [N];
@@ -195,15 +200,9 @@ module ts_path_core #(
     assign port[u] = {o, d, rays, tag, hit, index, far, td, beta, f, s, e};
   end
 
-  logic             in_valid_q;
-  logic [UW-1:0]    in_unit_q;
-  logic [PortW-1:0] in_q;
-  always_ff @(posedge clk) begin
-    if (rst || flush) in_valid_q <= 1'b0;
-    else in_valid_q <= stage_valid[phase[UW-1:0]];
-    in_unit_q <= phase[UW-1:0];
-    in_q      <= port[phase[UW-1:0]];
-  end
+  wire [UW-1:0]     in_unit = last_q;
+  wire              in_valid = stage_valid[in_unit];
+  wire [PortW-1:0]  in_q = port[in_unit];
   logic [3*OriginW-1:0] in_o;
   logic [3*DirW-1:0]    in_d;
   logic [3:0]           in_rays;
@@ -229,8 +228,8 @@ module ts_path_core #(
       .flush,
       .row,
       .sample_base,
-      .in_valid      (in_valid_q),
-      .in_unit       (in_unit_q),
+      .in_valid,
+      .in_unit,
       .in_path,
       .in_col,
       .in_sample,

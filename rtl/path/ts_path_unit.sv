@@ -105,7 +105,8 @@ module ts_path_unit #(
     // From the bounce stage: a path of the unit is over (its light is out in the next cycle).
     input  logic                   end_valid,
     input  logic [IdW-1:0]         end_path,
-    // To the bounce stage, in the unit's turn: a ray's closest hit (or its miss) with the ray.
+    // To the bounce stage, in the cycle after the unit's turn (the turn's register): a ray's closest hit (or its
+    // miss) with the ray.
     output logic                   stage_valid,
     output logic [3*OriginW-1:0]   stage_o,
     output logic [3*DirW-1:0]      stage_d,
@@ -506,7 +507,10 @@ module ts_path_unit #(
   wire done = hit_valid && !more;
   ray_t done_ray;
   assign done_ray = rays_mem[flight_id];
-  assign cut = done && merged.hit && done_ray.rays == depth;
+  // Whether the merged hit is a hit needs no comparison: the best so far, if a hit, loses only to a closer hit.
+  // (Written so, the cut is not behind t d's compare: it feeds the paths held and the queues' counts.)
+  wire merged_hit = (best_valid_q[flight_id] && best.hit) || unit_hit.hit;
+  assign cut = done && merged_hit && done_ray.rays == depth;
   wire to_stage = done && !cut;
   always_ff @(posedge clk) begin
     if (more) best_mem[flight_id] <= merged;
@@ -537,19 +541,24 @@ module ts_path_unit #(
   assign out_ray = st_empty ? done_ray : st_ray;
   hit_t out_hit;
   assign out_hit = st_empty ? merged : st_hit;
-  assign stage_valid = run_q && turn && (!st_empty || to_stage);
-  assign stage_o     = out_ray.o;
-  assign stage_d     = out_ray.d;
-  assign stage_rays  = out_ray.rays;
-  assign stage_tag   = out_ray.tag;
-  assign stage_hit   = out_hit.hit;
-  assign stage_index = out_hit.index;
-  assign stage_far   = out_hit.far_side;
-  assign stage_td    = out_hit.td;
-  assign stage_beta  = out_hit.beta;
-  assign stage_f     = out_hit.f;
-  assign stage_s     = out_hit.s;
-  assign stage_e     = out_hit.e;
+  // The turn's register: what the unit hands on in its turn is on the stage port in the next cycle, where the
+  // stage takes it (the units' ports are chosen by the turn before, without a register of their own).
+  always_ff @(posedge clk) begin
+    if (rst || flush) stage_valid <= 1'b0;
+    else stage_valid <= run_q && turn && (!st_empty || to_stage);
+    stage_o     <= out_ray.o;
+    stage_d     <= out_ray.d;
+    stage_rays  <= out_ray.rays;
+    stage_tag   <= out_ray.tag;
+    stage_hit   <= out_hit.hit;
+    stage_index <= out_hit.index;
+    stage_far   <= out_hit.far_side;
+    stage_td    <= out_hit.td;
+    stage_beta  <= out_hit.beta;
+    stage_f     <= out_hit.f;
+    stage_s     <= out_hit.s;
+    stage_e     <= out_hit.e;
+  end
 
   always_ff @(posedge clk) begin
     if (rst) overflow <= 1'b0;
