@@ -109,7 +109,7 @@ module ts_path_core #(
   end
 
   logic [N-1:0]       stage_valid;
-  logic [PortW-1:0]   port [N];
+  logic [N*PortW-1:0] ports;  // unit u's at [u PortW +: PortW] (Yosys 0.23 keeps no array of them as wires)
   logic [N-1:0]       unit_overflow;
 
   // The stage's next ray (or end), broadcast to the units with the unit it is for.
@@ -197,12 +197,12 @@ module ts_path_core #(
         .cut_tag          (cut_tag[u*TagW+:TagW]),
         .overflow         (unit_overflow[u])
     );
-    assign port[u] = {o, d, rays, tag, hit, index, far, td, beta, f, s, e};
+    assign ports[u*PortW+:PortW] = {o, d, rays, tag, hit, index, far, td, beta, f, s, e};
   end
 
   wire [UW-1:0]     in_unit = last_q;
   wire              in_valid = stage_valid[in_unit];
-  wire [PortW-1:0]  in_q = port[in_unit];
+  wire [PortW-1:0]  in_q = ports[in_unit*PortW+:PortW];
   logic [3*OriginW-1:0] in_o;
   logic [3*DirW-1:0]    in_d;
   logic [3:0]           in_rays;
