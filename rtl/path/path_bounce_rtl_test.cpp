@@ -71,6 +71,8 @@ struct Sent {
   std::int64_t cycle;
   int path;
   artix::PathStep step;
+  artix::PathUnitRay next;               // the twin's next ray (kRay)
+  std::array<std::int64_t, 3> light{};  // the twin's light (kLight)
 };
 
 struct Stats {
@@ -199,9 +201,11 @@ void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32
         const auto draw = [&] { return p.rng.next(); };
         device::PathBounces bounces;
         device::PathCounters counters;
-        in_flight.push_back(
-            {cyc + kLatency, i,
-             artix::bounce_stage(p.ray, p.hit, world.spheres, surfaces, p.throughput, draw, counters, bounces)});
+        artix::PathUnitRay next = p.ray;  // the twin writes the next ray over it
+        std::array<std::int64_t, 3> light{};
+        const artix::PathStep step =
+            artix::bounce_stage(next, p.hit, world.spheres, surfaces, p.throughput, light, draw, counters, bounces);
+        in_flight.push_back({cyc + kLatency, i, step, next, light});
         ++stats.entries;
       } else {
         put(t->in_td, static_cast<UInt128>(rng() & kTdMask));
@@ -228,24 +232,24 @@ void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32
       EXPECT_EQ(static_cast<int>(t->out_path), p.id) << where;
       EXPECT_EQ(static_cast<int>(t->out_col), p.col) << where;
       EXPECT_EQ(static_cast<int>(t->out_sample), p.sample) << where;
-      const bool ray = s.step.kind == artix::PathStep::Kind::kRay;
+      const bool ray = s.step == artix::PathStep::kRay;
       ASSERT_EQ(t->ray_valid != 0, ray) << where;
       if (ray) {
         EXPECT_EQ(static_cast<int>(t->out_rays), p.rays + 1) << where;
-        EXPECT_EQ(unpack3(get(t->out_o), kOriginW), s.step.next.ray.o) << where;
-        EXPECT_EQ(unpack3(get(t->out_d), kDirW), s.step.next.ray.d) << where;
-        EXPECT_EQ(static_cast<int>(t->out_from), s.step.next.from) << where;
-        EXPECT_EQ(t->out_into != 0, s.step.next.into) << where;
+        EXPECT_EQ(unpack3(get(t->out_o), kOriginW), s.next.ray.o) << where;
+        EXPECT_EQ(unpack3(get(t->out_d), kDirW), s.next.ray.d) << where;
+        EXPECT_EQ(static_cast<int>(t->out_from), s.next.from) << where;
+        EXPECT_EQ(t->out_into != 0, s.next.into) << where;
         ++stats.rays;
-        p.ray = s.step.next;
+        p.ray = s.next;
         p.rays += 1;
         p.hit = closest(p.ray);
         arrive(s.path, now + 1 + static_cast<std::int64_t>(rng() % 8));
       } else {
         const std::uint64_t light = t->out_light;
         for (std::size_t k = 0; k < 3; ++k) p.light[k] = static_cast<std::int64_t>((light >> (18 * k)) & 0x3FFFF);
-        EXPECT_EQ(p.light, s.step.light) << where;
-        if (s.step.kind == artix::PathStep::Kind::kLight) ++stats.sky;
+        EXPECT_EQ(p.light, s.light) << where;
+        if (s.step == artix::PathStep::kLight) ++stats.sky;
         else ++stats.absorbed;
         end_path(s.path);
       }

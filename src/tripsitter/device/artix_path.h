@@ -63,14 +63,10 @@ Vec3i unit_direction(const approx::Unit3& v);
 
 // What the bounce stage makes of a path's ray at its closest hit, or of its escape (a miss): the sky's light (the
 // path's end), the path's end without light (absorbed, or a scattered direction too short to normalise), or the
-// path's next ray. The cut at the path's last ray is the unit's, before the stage. `throughput` (times 2^16 per
-// channel) takes the surface's albedo at a bounce; draw() is the sample's next random number, asked at most once.
-struct PathStep {
-  enum class Kind { kRay, kLight, kAbsorbed };
-  Kind kind = Kind::kAbsorbed;
-  PathUnitRay next;                     // kRay
-  std::array<std::int64_t, 3> light{};  // kLight: times 2^16
-};
+// path's next ray, written over `path`. The cut at the path's last ray is the unit's, before the stage.
+// `throughput` (times 2^16 per channel) takes the surface's albedo at a bounce; the sky's light (times 2^16) goes to
+// `light`; draw() is the sample's next random number, asked at most once.
+enum class PathStep { kRay, kLight, kAbsorbed };
 
 // A 2^17 unit direction as the path preset's 2^14 unit vector.
 inline approx::Unit3 to_unit14(const Vec3i& v) {
@@ -79,16 +75,15 @@ inline approx::Unit3 to_unit14(const Vec3i& v) {
 }
 
 template <class Draw>
-PathStep bounce_stage(const PathUnitRay& path, const PathUnitHit& hit, std::span<const UnitSphere> spheres,
+PathStep bounce_stage(PathUnitRay& path, const PathUnitHit& hit, std::span<const UnitSphere> spheres,
                       std::span<const PathSurface> surfaces, std::array<std::int64_t, 3>& throughput,
-                      const Draw& draw, PathCounters& counters, PathBounces& bounces) {
+                      std::array<std::int64_t, 3>& light, const Draw& draw, PathCounters& counters,
+                      PathBounces& bounces) {
   const PathArith& arith = path_arith();
-  PathStep step;
   if (hit.index < 0) {
     ++counters.sky;
-    step.kind = PathStep::Kind::kLight;
-    step.light = sky_light(arith, throughput, -to_unit14(path.ray.d).y);
-    return step;
+    light = sky_light(arith, throughput, -to_unit14(path.ray.d).y);
+    return PathStep::kLight;
   }
   const auto i = static_cast<std::size_t>(hit.index);
   const PathSurface& surface = surfaces[i];
@@ -96,25 +91,26 @@ PathStep bounce_stage(const PathUnitRay& path, const PathUnitHit& hit, std::span
   const Scattered bounce = scatter(
       arith, surface, n, hit.inside,
       [&] { return checked(arith, to_unit14(path.ray.d), core::Width::kUnitVector); }, draw, counters);
-  if (bounce.bounce == Bounce::kAbsorbed) return step;
+  if (bounce.bounce == Bounce::kAbsorbed) return PathStep::kAbsorbed;
   Vec3i next = path.ray.d;
   if (bounce.bounce == Bounce::kScattered) {
     const approx::Unit3& v = bounce.next;
     if (core::dot(v, v) < 64) {  // shorter than 2^-11, nothing to normalise (a refraction at grazing incidence)
       ++counters.absorbed;
-      return step;
+      return PathStep::kAbsorbed;
     }
     checked(arith, v, core::Width::kScattered);
     next = unit_direction(v);
   }
   take_albedo(arith, surface, throughput);
-  step.kind = PathStep::Kind::kRay;
-  step.next.ray.o = hit_point(path.ray, hit.td);
-  step.next.ray.d = next;
-  step.next.from = hit.index;
-  step.next.into = bounce.into;
+  // In place, field by field: a whole new ray built beside it and copied in would be loaded while its stores are in
+  // flight (the fast model's store-forwarding stalls).
+  path.ray.o = hit_point(path.ray, hit.td);
+  path.ray.d = next;
+  path.from = hit.index;
+  path.into = bounce.into;
   count_bounce(surface, bounces);
-  return step;
+  return PathStep::kRay;
 }
 
 // One sample of the pixel (col, row), with the closest-hit search supplied: closest(path) must return
@@ -140,12 +136,9 @@ PathSample trace_path_sample(int col, int row, std::span<const UnitSphere> spher
       ++counters.cut;
       return out;
     }
-    const PathStep step = bounce_stage(path, hit, spheres, surfaces, throughput, draw, counters, out.bounces);
-    if (step.kind != PathStep::Kind::kRay) {
-      out.light = step.light;
+    if (bounce_stage(path, hit, spheres, surfaces, throughput, out.light, draw, counters, out.bounces) !=
+        PathStep::kRay)
       return out;
-    }
-    path = step.next;
   }
 }
 
