@@ -259,7 +259,6 @@ module ts_path_unit #(
       .pop(path_take && pfresh_q[IdW] && pc_empty), .front(pe_front), .empty(pe_empty), .overflow(pe_overflow)
   );
   assign path_new = !pfresh_q[IdW] ? pfresh_q[IdW-1:0] : !pc_empty ? pc_front : pe_front;
-  wire paths_short = path_take && pfresh_q[IdW] && pc_empty && pe_empty;
   always_ff @(posedge clk) begin
     if (rst || flush) pfresh_q <= '0;
     else if (path_take && !pfresh_q[IdW]) pfresh_q <= pfresh_q + (IdW + 1)'(1);
@@ -310,20 +309,9 @@ module ts_path_unit #(
 
   logic [IdW-1:0] pass_id_q;  // the pass issuing (its slots at stage 1)
 
-  // The paths the unit holds, from a camera ray's take to the path's end (its cut, or the bounce stage's word), and
-  // whether that is IDS: a camera ray waits for one to end.
-  logic [IdW:0] held_q;
-  logic         full_q;
-  wire  [IdW:0] held = held_q + (IdW + 1)'(take_cam) - (IdW + 1)'(cut) - (IdW + 1)'(end_valid);
-  always_ff @(posedge clk) begin
-    if (rst || flush) begin
-      held_q <= '0;
-      full_q <= 1'b0;
-    end else begin
-      held_q <= held;
-      full_q <= held == (IdW + 1)'(IDS);
-    end
-  end
+  // The unit holds IDS paths when no path number is free (none fresh, none given back): a camera ray waits for one
+  // to end (its cut, or the bounce stage's word, gives its number back for the next cycle).
+  wire full_q = pfresh_q[IdW] && pc_empty && pe_empty;
   always_ff @(posedge clk) begin
     if (rst || flush) begin
       run_q     <= 1'b0;
@@ -508,7 +496,7 @@ module ts_path_unit #(
   ray_t done_ray;
   assign done_ray = rays_mem[flight_id];
   // Whether the merged hit is a hit needs no comparison: the best so far, if a hit, loses only to a closer hit.
-  // (Written so, the cut is not behind t d's compare: it feeds the paths held and the queues' counts.)
+  // (Written so, the cut is not behind t d's compare: it feeds the queues' counts.)
   wire merged_hit = (best_valid_q[flight_id] && best.hit) || unit_hit.hit;
   assign cut = done && merged_hit && done_ray.rays == depth;
   wire to_stage = done && !cut;
@@ -562,7 +550,7 @@ module ts_path_unit #(
 
   always_ff @(posedge clk) begin
     if (rst) overflow <= 1'b0;
-    else if (b_overflow || l_overflow || ids_overflow || ids_short || pc_overflow || pe_overflow || paths_short
+    else if (b_overflow || l_overflow || ids_overflow || ids_short || pc_overflow || pe_overflow
              || flight_overflow || walker_overflow
              || st_overflow || (hit_valid && flight_empty) || (hit_valid && flight_walk && result_id != flight_id))
       overflow <= 1'b1;
