@@ -91,6 +91,7 @@ TEST(ArtixPackage, StatesThePresetsFacts) {
   EXPECT_EQ(at("WalkWait"), p.units->walk_wait);
   EXPECT_EQ(at("Paths"), device::artix_path_preset().units->paths);
   EXPECT_EQ(at("BounceLatency"), device::artix_path_preset().units->reflect_latency);
+  EXPECT_EQ(at("PixelLatency"), device::artix_path_preset().units->shade_latency);
   EXPECT_EQ(at("DirFrac"), artix::kDirectionFrac);
   EXPECT_EQ(std::int64_t{1} << (at("DirW") - 1), artix::kDirectionMax + 1);
   EXPECT_EQ(at("ScaledRadiusBits"), artix::kScaledRadiusBits);

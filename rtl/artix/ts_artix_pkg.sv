@@ -29,6 +29,7 @@ package ts_artix_pkg;
   localparam int WalkWait = 1;         // artix-path: from a walk level's hits known to its next level in the queue
   localparam int Paths = 32;           // artix-path: paths a unit holds at once
   localparam int BounceLatency = 51;   // artix-path: from a hit at its unit's stage port to the next ray in its queue
+  localparam int PixelLatency = 2;     // artix-path: from a sample's end at its unit's pixel port to its entry final
 
   // ---- The arithmetic (artix_kernel.h) ------------------------------------------------------------------------
   localparam int DirFrac = 17;         // unit directions and normals: times 2^17

@@ -94,9 +94,11 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
     // The model's samples: each one's light (the plain reference's), and when each ended.
     std::vector<std::vector<device::PathSample>> want(device::kLineWidth);
     std::vector<std::vector<std::int64_t>> ends(device::kLineWidth);
+    std::vector<std::vector<bool>> lit(device::kLineWidth);  // a sample's end: at the stage, or cut
     for (int c = 0; c < device::kLineWidth; ++c) {
       const auto n = m.paths[static_cast<std::size_t>(c)].size();
       ends[static_cast<std::size_t>(c)].assign(n, -1);
+      lit[static_cast<std::size_t>(c)].assign(n, false);
       for (std::size_t s = 0; s < n; ++s) {
         const auto pixel = static_cast<std::uint32_t>(m.row * device::kLineWidth + c);
         device::PathRng rng = device::PathRng::for_sample(
@@ -106,12 +108,13 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
             artix::trace_path_sample(c, m.row, world.spheres, scene.surfaces, frame.depth, rng, counters));
       }
     }
-    const auto sample_ends = [&](int col, int sample, std::int64_t at, const char* how) {
+    const auto sample_ends = [&](int col, int sample, std::int64_t at, bool at_stage, const char* how) {
       ASSERT_TRUE(col < device::kLineWidth && sample < static_cast<int>(ends[static_cast<std::size_t>(col)].size()))
           << how << " of no sample: column " << col << " sample " << sample;
       std::int64_t& e = ends[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)];
       EXPECT_EQ(e, -1) << how << ": column " << col << " sample " << sample << " ended twice";
       e = at;
+      lit[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = at_stage;
       ++stats.samples;
     };
     for (std::int64_t cyc = 0; cyc < kLine; ++cyc) {
@@ -147,7 +150,7 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
       if (t->end_valid != 0) {
         const int col = t->end_col, sample = t->end_sample;
         EXPECT_EQ(static_cast<int>(t->end_unit), col % kUnits) << "column " << col;
-        sample_ends(col, sample, cyc + 1, "an end");
+        sample_ends(col, sample, cyc + 1, true, "an end");
         if (col < device::kLineWidth && sample < static_cast<int>(want[static_cast<std::size_t>(col)].size())) {
           const device::PathSample& w = want[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)];
           std::array<std::int64_t, 3> light{};
@@ -162,7 +165,7 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
         const auto tag = static_cast<int>(bits_of(t->cut_tag, u * kTagW, kTagW));
         const int col = (tag >> 5) & 1023, sample = tag & 31;
         EXPECT_EQ(col % kUnits, u) << "a cut of another unit's column " << col;
-        sample_ends(col, sample, cyc, "a cut");
+        sample_ends(col, sample, cyc, false, "a cut");
         if (col < device::kLineWidth && sample < static_cast<int>(want[static_cast<std::size_t>(col)].size())) {
           const device::PathSample& w = want[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)];
           EXPECT_EQ(w.rays, frame.depth) << "row " << m.row << " column " << col << " cut early";
@@ -182,11 +185,12 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
       surf_q[1] = t->surf_addr;
       rising_edge(*t);
     }
-    // Each column: all its samples over, when the model says its colour is there; or late.
+    // Each column: all its samples over, its entry final when the model says; or late.
+    const std::vector<std::vector<std::int64_t>> port = path::port_cycles(ends, lit, kUnits);
     for (int c = 0; c < device::kLineWidth; ++c) {
       if (!m.takes[static_cast<std::size_t>(c)]) continue;
       ++stats.columns;
-      stats.late += path::column_late(ends[static_cast<std::size_t>(c)], m.finish[static_cast<std::size_t>(c)], shade,
+      stats.late += path::column_late(port[static_cast<std::size_t>(c)], m.finish[static_cast<std::size_t>(c)], shade,
                                       kLine, m.row, c);
     }
     ++stats.lines;

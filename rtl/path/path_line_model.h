@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -76,9 +77,37 @@ void put_surface(Top& t, const artix::UnitWorld& world, std::span<const device::
   t.surf_rinv = static_cast<IData>(world.spheres[i].rinv);
 }
 
-// A column whose samples ended in the cycles `ends` (-1: not over when the line's window of `line` cycles closed):
-// over exactly when the model puts its colour (`finish`, shade_latency after its last end), or late in the model
-// too (a sample not over by the window's last cycle would end after it at the earliest). Returns whether it is late.
+// The cycles the samples' ends go through their units' pixel ports (artix::serve_pixel_port; column c is unit
+// c mod `units`'s), from the cycles they ended in (`ends[col][sample]`, -1: not over) and whether each was a light
+// out of the bounce stage (`lit`, else a cut).
+inline std::vector<std::vector<std::int64_t>> port_cycles(const std::vector<std::vector<std::int64_t>>& ends,
+                                                          const std::vector<std::vector<bool>>& lit, int units) {
+  std::vector<std::vector<std::int64_t>> at = ends;
+  for (int u = 0; u < units; ++u) {
+    // Each kind's ends in the order of their cycles, with the sample each is.
+    std::array<std::vector<std::pair<device::artix::PortEnd, std::size_t>>, 2> kinds;
+    for (int c = u; c < static_cast<int>(ends.size()); c += units)
+      for (std::size_t s = 0; s < ends[static_cast<std::size_t>(c)].size(); ++s)
+        if (ends[static_cast<std::size_t>(c)][s] >= 0)
+          kinds[lit[static_cast<std::size_t>(c)][s] ? 0 : 1].push_back({{ends[static_cast<std::size_t>(c)][s], c}, s});
+    std::array<std::vector<device::artix::PortEnd>, 2> port;
+    for (std::size_t k = 0; k < 2; ++k) {
+      std::sort(kinds[k].begin(), kinds[k].end(),
+                [](const auto& a, const auto& b) { return a.first.cycle < b.first.cycle; });
+      for (const auto& e : kinds[k]) port[k].push_back(e.first);
+    }
+    device::artix::serve_pixel_port(port[0], port[1]);
+    for (std::size_t k = 0; k < 2; ++k)
+      for (std::size_t i = 0; i < port[k].size(); ++i)
+        at[static_cast<std::size_t>(port[k][i].col)][kinds[k][i].second] = port[k][i].cycle;
+  }
+  return at;
+}
+
+// A column whose samples went through its unit's pixel port in the cycles `ends` (port_cycles; -1: not over when the
+// line's window of `line` cycles closed): final exactly when the model says (`finish`, shade_latency after its last
+// there), or late in the model too (a sample not over by the window's last cycle would end after it at the
+// earliest). Returns whether it is late.
 inline bool column_late(const std::vector<std::int64_t>& ends, std::int64_t finish, int shade, int line, int row,
                         int col) {
   if (std::all_of(ends.begin(), ends.end(), [](std::int64_t x) { return x >= 0; })) {

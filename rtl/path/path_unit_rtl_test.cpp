@@ -96,12 +96,14 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
     };
     std::multimap<std::int64_t, Return> returns;  // the bounce stage's next rays, by the cycle they come back
     std::vector<std::vector<std::int64_t>> ends(device::kLineWidth);  // each sample's light out (or its cut's)
+    std::vector<std::vector<bool>> lit(device::kLineWidth);            // ... at the stage (else cut)
     std::vector<std::vector<int>> seen(device::kLineWidth);            // rays of each sample handed on
     std::array<int, kPaths> numbers;                                   // the live path of each number (col 32 + sample)
     numbers.fill(-1);
     for (const int c : cols) {
       const auto n = m.paths[static_cast<std::size_t>(c)].size();
       ends[static_cast<std::size_t>(c)].assign(n, -1);
+      lit[static_cast<std::size_t>(c)].assign(n, false);
       seen[static_cast<std::size_t>(c)].assign(n, 0);
     }
     for (std::int64_t cyc = 0; cyc < kLine; ++cyc) {
@@ -189,6 +191,7 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
         } else {
           returns.insert({cyc + reflect - 2, {col, sample, -1, static_cast<int>(t->stage_tag)}});
           ends[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = cyc - 1 + reflect;
+          lit[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = true;
         }
       }
       if (t->cut_valid != 0) {
@@ -210,9 +213,10 @@ void run_lines(const device::DevicePreset& p, const artix::UnitWorld& world, con
       node_q = t->node_addr;
       rising_edge(*t);
     }
-    // Each column of the unit: all its samples over, when the model says its colour is there; or late.
+    // Each column of the unit: all its samples over, its entry final when the model says; or late.
+    const std::vector<std::vector<std::int64_t>> port = path::port_cycles(ends, lit, kUnits);
     for (const int c : cols) {
-      const auto& e = ends[static_cast<std::size_t>(c)];
+      const auto& e = port[static_cast<std::size_t>(c)];
       const std::int64_t want = m.finish[static_cast<std::size_t>(c)];
       if (!m.takes[static_cast<std::size_t>(c)]) {
         ++stats.converged;

@@ -213,14 +213,16 @@ artix::LineChains line_of(const std::map<int, std::vector<Chain>>& columns) {
 
 // The artix path preset's line: a column's samples are chains of their own, a bounce waits for the bounce stage,
 // and a converged pixel takes no issue slot. One unit per two columns, 10 spheres, the artix path preset's
-// latencies (hit 40, bounce stage 51, colour 16), each unit with a bounce stage of its own.
+// latencies (hit 40, bounce stage 51, the entry final 2 after the pixel port), each unit with a bounce stage of its
+// own.
 TEST(ArtixSchedule, SamplesAreChainsAndAConvergedPixelTakesNoSlot) {
   DevicePreset p = artix_path_preset();
   p.workers = 320;
   p.units->shared_bounce = false;
   ASSERT_EQ(p.units->hit_latency, 40);
   ASSERT_EQ(p.units->reflect_latency, 51);
-  ASSERT_EQ(p.units->shade_latency, 16);
+  ASSERT_EQ(p.units->shade_latency, 2);
+  ASSERT_TRUE(p.units->pixel_port);
   const Chain escape{{10, 0, true}};  // a sample that meets nothing
   const auto finish = artix::unit_finish_cycles(
       p, line_of({{5, {{{10, 0, true}, {10, 0, true}}, escape}},  // two samples: one bounces once, both then escape
@@ -228,13 +230,14 @@ TEST(ArtixSchedule, SamplesAreChainsAndAConvergedPixelTakesNoSlot) {
                   {326, {escape}}}));
   // Unit 5: column 5's first sample issues [0, 10), its hit is known at 50 and its bounce waits from 101; its
   // second sample issues [10, 20), known at 60, its light out at 111; column 325 issues [20, 30), known at 70,
-  // light at 121, done at 137; the bounce issues [101, 111), known at 151, light at 202: column 5 is done at 218,
-  // after both its samples.
-  EXPECT_EQ(finish[325], 137);
-  EXPECT_EQ(finish[5], 218);
-  // Unit 6: column 6 traces nothing (converged), shown 16 cycles after the unit reaches it; 326 issues [0, 10).
-  EXPECT_EQ(finish[6], 16);
-  EXPECT_EQ(finish[326], 117);
+  // light at 121, final at 123; the bounce issues [101, 111), known at 151, light at 202: column 5 is final at
+  // 204, after both its samples.
+  EXPECT_EQ(finish[325], 123);
+  EXPECT_EQ(finish[5], 204);
+  // Unit 6: column 6 traces nothing (converged): its entry is frame memory's, final from the start; 326 issues
+  // [0, 10), known at 50, light at 101.
+  EXPECT_EQ(finish[6], 0);
+  EXPECT_EQ(finish[326], 103);
 }
 
 // A bounce that walks the hierarchy is a pass a level: the next level joins the queue as soon as the previous
@@ -248,12 +251,12 @@ TEST(ArtixSchedule, AWalksNextLevelFollowsItsHitsWithoutTheBounceStage) {
   columns[5] = {{{4, 0, true}, {9, 0, false}, {16, 1, true}}};  // the bounce's walk: bounds, then spheres
   const auto finish = artix::unit_finish_cycles(p, line_of(columns));
   // Unit 5: column 5's camera ray issues [0, 4), known at 44; column 325 issues [4, 8), known at 48, light at 99,
-  // done at 115. The bounce's bounds wait from 95 and issue [95, 104), known at 144; its spheres' level waits
+  // final at 101. The bounce's bounds wait from 95 and issue [95, 104), known at 144; its spheres' level waits
   // from 145 (walk_wait), reads its first node then (the walk's lead) and issues [146, 162), known at 202, light at
-  // 253: done at 269.
+  // 253: final at 255.
   ASSERT_EQ(p.units->walk_wait, 1);
-  EXPECT_EQ(finish[325], 115);
-  EXPECT_EQ(finish[5], 269);
+  EXPECT_EQ(finish[325], 101);
+  EXPECT_EQ(finish[5], 255);
 }
 
 // The units share one bounce stage: unit u's hits enter it only in the line's cycles c = u (mod N), one a cycle,
@@ -267,12 +270,13 @@ TEST(ArtixSchedule, TheSharedBounceStageTakesAUnitsHitsInItsOwnCycles) {
       p, line_of({{1, {escape}}, {9, {escape}}, {17, {escape}}, {25, {cut}}, {33, {escape}}}));
   // Unit 1's camera rays issue [0, 3), [3, 6), [6, 9), [9, 12) (the cut, column 25), [12, 15): known at 43, 46, 49,
   // 52 and 55. Column 1's enters at 49, column 9's at 57 (49 is taken), column 17's at 65 although it was known in
-  // a cycle of the unit's (49), column 33's at 73 (the cut took no cycle of the stage); each colour 51 + 16 later.
-  EXPECT_EQ(finish[1], 49 + 67);
-  EXPECT_EQ(finish[9], 57 + 67);
-  EXPECT_EQ(finish[17], 65 + 67);
-  EXPECT_EQ(finish[25], 52 + 16);
-  EXPECT_EQ(finish[33], 73 + 67);
+  // a cycle of the unit's (49), column 33's at 73 (the cut took no cycle of the stage); each entry final 51 + 2
+  // later.
+  EXPECT_EQ(finish[1], 49 + 53);
+  EXPECT_EQ(finish[9], 57 + 53);
+  EXPECT_EQ(finish[17], 65 + 53);
+  EXPECT_EQ(finish[25], 52 + 2);
+  EXPECT_EQ(finish[33], 73 + 53);
 }
 
 // A unit holds at most `paths` paths: a camera ray waits for one to end, after the bounce stage's light or the
@@ -290,12 +294,44 @@ TEST(ArtixSchedule, ACameraRayWaitsForAPathToEndWhenTheUnitHoldsItsPaths) {
                                                             {326, {escape}}}));
   // Unit 5: column 5 issues [0, 10), known at 50, its bounce waits from 101 and issues [101, 111), known at 151,
   // light at 202: over. Column 325 then issues [202, 212), known at 252, light at 303.
-  EXPECT_EQ(finish[5], 202 + 16);
-  EXPECT_EQ(finish[325], 303 + 16);
+  EXPECT_EQ(finish[5], 202 + 2);
+  EXPECT_EQ(finish[325], 303 + 2);
   // Unit 6: column 6 issues [0, 10), cut at 50: held until 51, when column 326 issues [51, 61), known at 101, light
   // at 152.
-  EXPECT_EQ(finish[6], 50 + 16);
-  EXPECT_EQ(finish[326], 152 + 16);
+  EXPECT_EQ(finish[6], 50 + 2);
+  EXPECT_EQ(finish[326], 152 + 2);
+}
+
+// A unit's pixel port takes a sample a cycle: the bounce stage's lights in their cycles, each cut in the first cycle
+// from its own that neither a light nor an earlier cut took.
+TEST(ArtixSchedule, APixelPortTakesLightsInTheirCyclesAndCutsInTheFreeOnes) {
+  std::vector<artix::PortEnd> lit{{10, 0}, {11, 1}, {13, 2}, {30, 3}};
+  std::vector<artix::PortEnd> cut{{10, 4}, {10, 5}, {20, 6}, {30, 7}, {30, 8}};
+  artix::serve_pixel_port(lit, cut);
+  std::vector<std::int64_t> at;
+  for (const artix::PortEnd& e : cut) at.push_back(e.cycle);
+  // 10 and 11 are lights': the first cut waits to 12; the second to 14 (12 its, 13 a light's); 30 a light's.
+  EXPECT_EQ(at, (std::vector<std::int64_t>{12, 14, 20, 31, 32}));
+  EXPECT_EQ(lit[2].cycle, 13);  // lights keep their cycles
+  EXPECT_EQ(cut[1].col, 5);
+}
+
+// In the line, a cut known in the cycle its unit's light leaves the stage reaches the pixel port a cycle later, and
+// so its column's entry is final a cycle later.
+TEST(ArtixSchedule, ACutMeetingALightAtThePixelPortWaitsACycle) {
+  DevicePreset p = artix_path_preset();
+  p.workers = 8;
+  const Chain escape{{3, 0, true}}, cut{{3, 0, false}};
+  // Unit 1's camera rays: column 1 issues [0, 3), known at 43, enters the stage at 49 (its cycle), light at 100.
+  // Then columns 9, 17, ... are cut: the k-th (column 1 + 8 k) issues [3 k, 3 k + 3), cut at 3 k + 43; k = 19
+  // (column 153) at 100, the light's cycle.
+  std::map<int, std::vector<Chain>> columns{{1, {escape}}};
+  for (int k = 1; k <= 20; ++k) columns[1 + 8 * k] = {cut};
+  const auto finish = artix::unit_finish_cycles(p, line_of(columns));
+  EXPECT_EQ(finish[1], 102);
+  EXPECT_EQ(finish[1 + 8 * 18], 97 + 2);
+  EXPECT_EQ(finish[1 + 8 * 19], 101 + 2);  // 100 is the light's
+  EXPECT_EQ(finish[1 + 8 * 20], 103 + 2);
 }
 
 TEST(ArtixSchedule, AHeavyLineIsLateFromTheLeadOn) {

@@ -182,6 +182,20 @@ RowTiles row_tiles(const UnitWorld& world, int row, int tile_columns) {
   return t;
 }
 
+void serve_pixel_port(std::span<PortEnd> lit, std::span<PortEnd> cut) {
+  assert(std::is_sorted(lit.begin(), lit.end(), [](const PortEnd& a, const PortEnd& b) { return a.cycle < b.cycle; }));
+  std::size_t next_lit = 0;
+  std::int64_t free_from = 0;  // the cycle after the last cut's
+  for (PortEnd& e : cut) {
+    std::int64_t at = std::max(e.cycle, free_from);
+    // The lights in order: skip those before `at`, and move past each that takes it.
+    for (; next_lit < lit.size() && lit[next_lit].cycle <= at; ++next_lit)
+      if (lit[next_lit].cycle == at) ++at;
+    e.cycle = at;
+    free_from = at + 1;
+  }
+}
+
 std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const LineChains& work) {
   assert(preset.units && work.start.size() == kLineWidth + 1);
   const DeviceUnits& u = *preset.units;
@@ -205,8 +219,11 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
   };
   thread_local std::array<Fifo, 2> fifos;  // kept from line to line for their buffers
   thread_local std::array<std::vector<std::int64_t>, 2> frees;
+  thread_local std::vector<PortEnd> lit, cut;  // a unit's samples' ends at its pixel port (pixel_port)
   const std::int64_t period = u.shared_bounce ? preset.workers : 1;  // a unit's cycles at the bounce stage
   for (int unit = 0; unit < preset.workers; ++unit) {
+    lit.clear();
+    cut.clear();
     for (Fifo& f : fifos) {
       f.passes.clear();
       f.head = 0;
@@ -249,7 +266,7 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
     while (true) {
       // A column with no chains (a converged path pixel) takes no issue slot: its colour is shown from frame memory.
       while (next_col < kLineWidth && work.start[static_cast<std::size_t>(next_col) + 1] == next_chain) {
-        finish[static_cast<std::size_t>(next_col)] = cycle + u.shade_latency;
+        finish[static_cast<std::size_t>(next_col)] = u.pixel_port ? 0 : cycle + u.shade_latency;
         next_col += preset.workers;
         if (next_col < kLineWidth) next_chain = work.start[static_cast<std::size_t>(next_col)];
       }
@@ -287,10 +304,19 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
         fifos[pass.bounce ? 0 : 1].passes.push_back(
             {pass.bounce ? known : known + u.walk_wait, queued++, job.col, job.chain, job.pass + 1});
       } else {
-        finish[static_cast<std::size_t>(job.col)] = std::max(finish[static_cast<std::size_t>(job.col)], known + u.shade_latency);
         // The path is over: its light is out of the bounce stage at `known`, or its cut hit known then.
+        if (u.pixel_port)
+          (pass.bounce ? lit : cut).push_back({known, job.col});
+        else
+          finish[static_cast<std::size_t>(job.col)] = std::max(finish[static_cast<std::size_t>(job.col)], known + u.shade_latency);
         free_from[pass.bounce ? 0 : 1].push_back(pass.bounce ? known : known + 1);
       }
+    }
+    if (u.pixel_port) {
+      serve_pixel_port(lit, cut);
+      for (const auto* ends : {&lit, &cut})
+        for (const PortEnd& e : *ends)
+          finish[static_cast<std::size_t>(e.col)] = std::max(finish[static_cast<std::size_t>(e.col)], e.cycle + u.shade_latency);
     }
   }
   return finish;

@@ -133,8 +133,20 @@ struct LineChains {
 // fewer than `paths` chains (a chain is held from its first pass's start to its end; 0: no limit), else it waits
 // for the queue or for a chain to end. A column's colour is there shade_latency after the end of its last chain to
 // end: its last hit known, or the stage's output for a bounce pass (a column with no chains: shade_latency after the
-// unit reaches it); a chain ends then (after the stage) or the cycle after its last hit (a cut).
+// unit reaches it); a chain ends then (after the stage) or the cycle after its last hit (a cut). With pixel_port
+// the ends go through the unit's pixel port (serve_pixel_port) and the column is final shade_latency after its
+// last one there; a column with no chains is final from the start (0).
 std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const LineChains& work);
+
+// A sample's end at its unit's pixel port (DeviceUnits::pixel_port): the cycle and its column.
+struct PortEnd {
+  std::int64_t cycle;
+  int col;
+};
+// A unit's pixel port, a sample a cycle: `lit` (the bounce stage's ends, in order, at most one a cycle) go through
+// in their cycle; each of `cut` (in the order cut) in the first cycle from its own that no light and no earlier
+// cut took, written back into its `cycle`. ts_path_pixels is its RTL.
+void serve_pixel_port(std::span<PortEnd> lit, std::span<PortEnd> cut);
 // The mirror model's line: column c one chain of 1 + pixels[c].bounces passes.
 std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, std::int64_t spheres,
                                              std::span<const core::PixelTrace> pixels,

@@ -180,12 +180,14 @@ DevicePreset artix_path_preset() {
   // a hit that bounces, or a ray that escapes, enters it in its unit's cycle and comes out 51 cycles later, as the
   // next ray or as the sample's light: the turn's register, ts_path_bounce's 49 cycles (every material's bounce
   // the same: the scatter unit waits its lambertian and metal results for its dielectric's), and the cycle before
-  // the ray is known in the unit's queue (ts_artix_pkg::BounceLatency). A colour is in the line buffer after the
-  // light (or the cut's hit), the accumulation and the display (8 + 8).
+  // the ray is known in the unit's queue (ts_artix_pkg::BounceLatency). A sample's end (its light, or its cut)
+  // goes through its unit's pixel port and the column's entry is final 2 cycles later (ts_artix_pkg::PixelLatency:
+  // the bank's registered read, then the sum written); the display reads the final entries as the line is shown.
   p.units->shared_bounce = true;
   p.units->paths = 32;
   p.units->reflect_latency = 51;
-  p.units->shade_latency = p.costs.accumulate + 8;
+  p.units->pixel_port = true;
+  p.units->shade_latency = 2;
   return p;
 }
 

@@ -97,6 +97,13 @@ struct DeviceUnits {
   // to its end (its light out of the bounce stage, or the cycle after its cut hit), and the unit takes a camera ray
   // only while it holds fewer, so that its queues and stores of paths have that many places.
   int paths = 0;
+  // Each unit's samples end into its pixels' bank through one port, a sample a cycle (artix-path: ts_path_pixels):
+  // a light out of the bounce stage in its cycle, a cut path's end queued behind those in the order cut (a cut that
+  // meets the stage's light in a cycle waits for the next free one). A column's entry is final shade_latency cycles
+  // after its last sample went through the port (the bank's read-modify-write); a converged column's (it traces
+  // nothing) is its frame-memory entry, final before the line's window. Otherwise a column's colour is in the line
+  // buffer shade_latency after its last end.
+  bool pixel_port = false;
   bool operator==(const DeviceUnits&) const = default;
 };
 
