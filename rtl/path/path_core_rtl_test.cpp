@@ -1,11 +1,14 @@
 // The artix path preset's tracing core as RTL (ts_path_core.sv: path units and the bounce stage they share, joined
-// by the turn; nine as the preset has them, seven, and one) held to the model line by line: every sample of every column ends where the model ends it
-// (the stage's light, equal bit for bit to artix::trace_path_sample's, or 0 for a path absorbed; or its unit's cut
-// at the path's last ray), and every column's samples are over when artix::unit_finish_cycles puts its colour, or
-// the column is one the model finds late. No ray's next ray or hit comes from the test bench: the units trace and
-// the stage bounces. The test bench is the rest of the device: the camera's directions and which pixels take
-// samples (written in the line before), each unit's tile lists, scene and node memory, and the surfaces' memory,
-// each a registered read. Lines run back to back, 3,200 cycles each with the window's flush at its end.
+// by the turn, and each unit's pixels; nine units as the preset has them, seven, and one) held to the model line by
+// line: every sample of every column ends where the model ends it (the stage's light, equal bit for bit to
+// artix::trace_path_sample's, or 0 for a path absorbed; or its unit's cut at the path's last ray), every column's
+// last sample goes through its unit's pixel port when artix::unit_finish_cycles says (or the column is one the
+// model finds late), and every column read back in the next window is final exactly when the model has it on time,
+// with path_pixel()'s entry. No ray's next ray or hit comes from the test bench: the units trace and the stage
+// bounces. The test bench is the rest of the device: the camera's directions with each pixel's entry from frame
+// memory (written in the line before; random entries, some of them converged), each unit's tile lists, scene and
+// node memory, and the surfaces' memory, each a registered read. Lines run back to back, 3,200 cycles each with the
+// window's flush at its end.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -29,6 +32,7 @@
 #include <tripsitter/device/test_util.h>
 
 #include "path_line_model.h"
+#include "path_rtl_util.h"
 
 namespace tripsitter::rtl {
 namespace {
@@ -43,9 +47,11 @@ constexpr int kAW = 8, kTagW = 5 + 10 + 5, kSurfaceRead = 2;
 
 struct Stats {
   int lines = 0, columns = 0, late = 0, samples = 0, lit = 0, dark = 0, cuts = 0;
+  int read = 0, final = 0, converged = 0;  // columns read back after their window
   void print(const char* what) const {
-    std::printf("%s: %d lines, %d columns (%d late), %d samples over: %d lit by the sky, %d absorbed, %d cut\n", what,
-                lines, columns, late, samples, lit, dark, cuts);
+    std::printf("%s: %d lines, %d columns (%d late), %d samples over: %d lit by the sky, %d absorbed, %d cut; %d "
+                "columns read back, %d final (%d converged)\n",
+                what, lines, columns, late, samples, lit, dark, cuts, read, final, converged);
   }
 };
 
@@ -63,6 +69,7 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
   auto t = std::make_unique<Top>(&context);
   path::put_world(*t, world, frame);
   t->sample_base = frame.frame * static_cast<std::uint32_t>(frame.spp);
+  t->epoch = frame.epoch;
   t->start = 0;
   t->flush = 0;
   t->px_we = 0;
@@ -75,7 +82,8 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
     t->px_we = 1;
     t->px_unit = static_cast<CData>(col % kUnits);
     t->px_slot = static_cast<SData>(col / kUnits);
-    t->px_takes = m.takes[static_cast<std::size_t>(col)];
+    t->px_col = static_cast<SData>(col);
+    t->px_entry = path::pack(m.stored[static_cast<std::size_t>(col)]);
     put(t->px_d, sphere_unit::pack3(artix::camera_direction(col, m.row), kDirW));
   };
   for (int col = 0; col < device::kLineWidth; ++col) {
@@ -83,6 +91,31 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
     rising_edge(*t);
   }
   t->px_we = 0;
+
+  // The last window's row read back, a column a cycle from cycle 100 (unit c mod N's column c): final exactly when
+  // the model has it on time, and then the model's entry. Called after each cycle's evaluation: checks the column
+  // asked the cycle before, and asks the next.
+  int asked = -1;
+  const auto read_back = [&](const ModelLine* before, std::int64_t cyc) {
+    if (asked >= 0) {
+      const auto c = static_cast<std::size_t>(asked);
+      const bool on_time = before->finish[c] <= kLine;
+      ++stats.read;
+      stats.converged += !before->takes[c];
+      EXPECT_EQ(t->rd_final != 0, on_time) << "row " << before->row << " column " << asked;
+      if (on_time && t->rd_final != 0) {
+        ++stats.final;
+        const device::AccumEntry got = path::unpack_entry(t->rd_entry);
+        EXPECT_TRUE(got == before->entry[c])
+            << "row " << before->row << " column " << asked << ": count " << int{got.count} << " sums " << got.sum[0]
+            << " " << got.sum[1] << " " << got.sum[2] << ", the model's " << int{before->entry[c].count} << " "
+            << before->entry[c].sum[0] << " " << before->entry[c].sum[1] << " " << before->entry[c].sum[2];
+      }
+    }
+    asked = before != nullptr && cyc >= 100 && cyc < 100 + device::kLineWidth ? static_cast<int>(cyc - 100) : -1;
+    t->rd_col = static_cast<SData>(asked >= 0 ? asked : 0);
+    t->rd_unit = static_cast<CData>(asked >= 0 ? asked % kUnits : 0);
+  };
 
   // The memories' registered reads: what each unit asked last cycle; the surface asked two cycles ago.
   std::array<int, kUnits> tile_q{}, pos_q{}, mem_q{}, node_q{};
@@ -117,12 +150,12 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
       lit[static_cast<std::size_t>(col)][static_cast<std::size_t>(sample)] = at_stage;
       ++stats.samples;
     };
+    const std::size_t l = static_cast<std::size_t>(&m - lines.data());
     for (std::int64_t cyc = 0; cyc < kLine; ++cyc) {
       t->start = cyc == 0;
       t->flush = cyc == kLine - 1;
       // The next line's pixels, one a cycle from the window's second cycle.
       t->px_we = 0;
-      const std::size_t l = static_cast<std::size_t>(&m - lines.data());
       if (l + 1 < lines.size() && cyc >= 1 && cyc <= device::kLineWidth)
         write_pixel(lines[l + 1], static_cast<int>(cyc - 1));
       // The memories.
@@ -146,7 +179,7 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
       t->clk = 0;
       t->eval();
 
-      // A sample's end at the stage (its light out in the next cycle), or at its unit's cut.
+      // A sample's end at the stage (with its light; the schedule's cycle is the next), or at its unit's cut.
       if (t->end_valid != 0) {
         const int col = t->end_col, sample = t->end_sample;
         EXPECT_EQ(static_cast<int>(t->end_unit), col % kUnits) << "column " << col;
@@ -183,6 +216,7 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
       }
       surf_q[0] = surf_q[1];
       surf_q[1] = t->surf_addr;
+      read_back(l > 0 ? &lines[l - 1] : nullptr, cyc);
       rising_edge(*t);
     }
     // Each column: all its samples over, its entry final when the model says; or late.
@@ -195,6 +229,16 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
     }
     ++stats.lines;
   }
+  // A window more, with nothing to trace, to read the last line back.
+  for (std::int64_t cyc = 0; cyc < kLine; ++cyc) {
+    t->start = cyc == 0;
+    t->flush = cyc == kLine - 1;
+    t->px_we = 0;
+    t->clk = 0;
+    t->eval();
+    read_back(&lines.back(), cyc);
+    rising_edge(*t);
+  }
   EXPECT_EQ(t->overflow, 0);
 }
 
@@ -205,8 +249,16 @@ void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32
   p.workers = kUnits;
   const path::PathScene s = path::path_scene(scene, spp, depth, frame_no);
   std::vector<ModelLine> lines;
+  std::mt19937_64 rng(frame_no);
   for (const int row : rows) {
+    // Frame memory's entries: of this world's epoch or another's, empty, partly or nearly full (some converged).
     std::vector<device::AccumEntry> memory(device::kLineWidth);
+    for (device::AccumEntry& e : memory) {
+      e.epoch = rng() % 4 == 0 ? static_cast<std::uint8_t>(rng() % device::kEpochs) : s.frame.epoch;
+      const auto kind = rng() % 4;
+      e.count = kind == 0 ? 0 : kind == 1 ? static_cast<std::uint8_t>(255 - rng() % 8) : static_cast<std::uint8_t>(rng() % 256);
+      for (auto& sum : e.sum) sum = static_cast<std::uint32_t>(rng() % (511u * e.count + 1));
+    }
     lines.push_back(path::model_line(p, s.world, row, s.frame, memory));
   }
   run_lines<Top, kUnits>(p, s, lines, stats);
@@ -224,6 +276,8 @@ TEST(PathCoreRtl, NineUnitsAndTheirStageTraceLinesAsTheModel) {
   }
   stats.print("9 units");
   EXPECT_EQ(stats.lines, 12);
+  EXPECT_EQ(stats.read, 12 * device::kLineWidth);
+  EXPECT_GT(stats.converged, 100);
   EXPECT_GT(stats.lit, 1000);
   EXPECT_GT(stats.dark, 10);
   EXPECT_GT(stats.cuts, 100);
@@ -244,9 +298,11 @@ TEST(PathCoreRtl, SevenUnitsAndOneTraceLinesAsTheModel) {
   seven.print("7 units");
   one.print("1 unit");
   EXPECT_EQ(seven.lines, 4);
+  EXPECT_EQ(seven.read, 4 * device::kLineWidth);
   EXPECT_GT(seven.lit, 500);
   EXPECT_GT(seven.cuts, 50);
   EXPECT_EQ(one.lines, 2);
+  EXPECT_EQ(one.read, 2 * device::kLineWidth);
   EXPECT_GT(one.samples, 300);
   EXPECT_GT(one.late, 100);  // 640 columns on one unit: most are late
 }

@@ -118,13 +118,14 @@ inline bool column_late(const std::vector<std::int64_t>& ends, std::int64_t fini
   return true;
 }
 
-// One line of the model: its tile lists, its columns' finish cycles, which columns take samples, and each sample's
-// rays with their hits, in the order traced.
+// One line of the model: its tile lists, its columns' finish cycles, which columns take samples, their entries in
+// frame memory before and after the line, and each sample's rays with their hits, in the order traced.
 struct ModelLine {
   int row = 0;
   artix::RowTiles tiles;
   std::vector<std::int64_t> finish;
   std::vector<bool> takes;                                                          // a column
+  std::vector<device::AccumEntry> stored, entry;                                    // a column's
   std::vector<std::vector<std::vector<std::pair<artix::PathUnitRay, artix::PathUnitHit>>>> paths;  // [col][sample]
 };
 
@@ -146,8 +147,11 @@ inline ModelLine model_line(const device::DevicePreset& p, const artix::UnitWorl
   };
   artix::path_line_chains(p, world, row, frame, memory, pixels, counters, artix::Search::kAll, work, &observe);
   m.finish = artix::unit_finish_cycles(p, work);
-  for (int c = 0; c < device::kLineWidth; ++c)
+  m.stored = memory;
+  for (int c = 0; c < device::kLineWidth; ++c) {
     m.takes.push_back(work.start[static_cast<std::size_t>(c) + 1] > work.start[static_cast<std::size_t>(c)]);
+    m.entry.push_back(pixels[static_cast<std::size_t>(c)].entry);
+  }
   return m;
 }
 

@@ -11,10 +11,14 @@
 //
 // Each unit has its own ports to the memories the device replicates (the row's tile lists, scene memory, node
 // memory: unit u's field of a port at [u W +: W]); the stage has the surfaces' port. A sample ends in one of two
-// places: the stage (`end_valid`: the sky's light, or 0 for a path absorbed; the light is out in the next cycle)
+// places: the stage (`end_valid` with its light: the sky's, or 0 for a path absorbed; the schedule's cycle is the next)
 // or its unit's cut at the path's last ray (`cut_valid[u]`, no light, with the path's tag {number, column,
-// sample}). `start` is the line window's first cycle, `flush` its last: everything in flight is dropped after it,
-// in the units and in the stage. `overflow` (sticky): a unit's.
+// sample}). Either way it goes through its unit's pixel port into the column's entry (ts_path_pixels, one a unit:
+// the stage's light in the cycle it is out, a cut in the first cycle no light takes). The next row's pixels come
+// with their frame-memory entries (which say whether each takes this frame's samples); the last window's row is read
+// back (`rd_*`: a column's entry and whether it is final, the cycle after it is asked). `start` is the line
+// window's first cycle, `flush` its last: everything in flight is dropped after it, in the units, the stage and the
+// pixels' ports. `overflow` (sticky): a unit's or a pixel port's queue.
 module ts_path_core #(
     parameter int N = ts_artix_pkg::Units,
     parameter int IDS = ts_artix_pkg::Paths,
@@ -43,14 +47,17 @@ module ts_path_core #(
     input  logic [7:0]             root_children,
     input  logic [3:0]             depth,
     input  logic [4:0]             spp,
+    input  logic [4:0]             epoch,
     input  logic [8:0]             row,
     input  logic [31:0]            sample_base,
-    // The next row's pixels, each to its unit (column px_unit + px_slot N), in order.
+    // The next row's pixels, each to its unit (column px_col = px_unit + px_slot N), in order, each with its camera
+    // direction and its entry in frame memory.
     input  logic                   px_we,
     input  logic [UW-1:0]          px_unit,
     input  logic [SlotW-1:0]       px_slot,
-    input  logic                   px_takes,
+    input  logic [9:0]             px_col,
     input  logic [3*DirW-1:0]      px_d,
+    input  logic [63:0]            px_entry,
     // Each unit's tile lists (a registered read).
     output logic [N*5-1:0]         tile,
     output logic [N*AW-1:0]        tile_pos,
@@ -86,6 +93,11 @@ module ts_path_core #(
     output logic [3*18-1:0]        end_light,
     output logic [N-1:0]           cut_valid,
     output logic [N*TagW-1:0]      cut_tag,
+    // The last window's row: column rd_col (unit rd_unit's) final or not, and its entry, the cycle after.
+    input  logic [UW-1:0]          rd_unit,
+    input  logic [9:0]             rd_col,
+    output logic                   rd_final,
+    output logic [63:0]            rd_entry,
     output logic                   overflow
 );
   localparam int TdW = ts_artix_pkg::TdW;
@@ -110,7 +122,14 @@ module ts_path_core #(
 
   logic [N-1:0]       stage_valid;
   logic [N*PortW-1:0] ports;  // unit u's at [u PortW +: PortW] (Yosys 0.23 keeps no array of them as wires)
-  logic [N-1:0]       unit_overflow;
+  logic [N-1:0]       unit_overflow, pixels_overflow;
+  logic [N-1:0]       takes, final_q;
+  logic [N*64-1:0]    entries;  // unit u's read at [u 64 +: 64]
+
+  // The stage's ends (with their light), to the unit's pixel port in the next cycle: the schedule's.
+  logic [N-1:0]  lit_q;
+  logic [9:0]    lit_col_q;
+  logic [53:0]   lit_light_q;
 
   // The stage's next ray (or end), broadcast to the units with the unit it is for.
   logic                 ray_valid, st_end_valid;
@@ -155,7 +174,7 @@ module ts_path_core #(
         .spp,
         .px_we            (px_we && px_unit == UW'(u)),
         .px_slot,
-        .px_takes,
+        .px_takes         (takes[u]),
         .px_d,
         .tile             (tile[u*5+:5]),
         .tile_pos         (tile_pos[u*AW+:AW]),
@@ -198,7 +217,39 @@ module ts_path_core #(
         .overflow         (unit_overflow[u])
     );
     assign ports[u*PortW+:PortW] = {o, d, rays, tag, hit, index, far, td, beta, f, s, e};
+
+    ts_path_pixels #(.N(N)) u_pixels (
+        .clk,
+        .rst,
+        .start,
+        .flush,
+        .epoch,
+        .spp,
+        .ld_we    (px_we && px_unit == UW'(u)),
+        .ld_col   (px_col),
+        .ld_entry (px_entry),
+        .ld_takes (takes[u]),
+        .lit_valid(lit_q[u]),
+        .lit_col  (lit_col_q),
+        .lit_light(lit_light_q),
+        .cut_valid(cut_valid[u]),
+        .cut_col  (cut_tag[u*TagW+5+:10]),
+        .rd_col,
+        .rd_final (final_q[u]),
+        .rd_entry (entries[u*64+:64]),
+        .overflow (pixels_overflow[u])
+    );
   end
+
+  logic [UW-1:0] rd_unit_q;
+  always_ff @(posedge clk) begin
+    for (int u = 0; u < N; u++) lit_q[u] <= st_end_valid && !flush && out_unit == UW'(u);
+    lit_col_q <= out_col;
+    lit_light_q <= end_light;
+    rd_unit_q <= rd_unit;
+  end
+  assign rd_final = final_q[rd_unit_q];
+  assign rd_entry = entries[rd_unit_q*64+:64];
 
   wire [UW-1:0]     in_unit = last_q;
   wire              in_valid = stage_valid[in_unit];
@@ -273,6 +324,6 @@ module ts_path_core #(
 
   always_ff @(posedge clk) begin
     if (rst) overflow <= 1'b0;
-    else if (|unit_overflow) overflow <= 1'b1;
+    else if (|unit_overflow || |pixels_overflow) overflow <= 1'b1;
   end
 endmodule
