@@ -4,7 +4,8 @@
 //
 // Unit u traces the columns u, u + N, ... of a line. In the line's cycle c the turn is unit c mod N's (each unit
 // counts it too, from `start`): the unit registers what it hands on then, a ray's closest hit or miss (the turn's
-// register), and in the next cycle the core passes that unit's port to the stage, which gives back 49 cycles later
+// register, all 0 in every other cycle), and in the next cycle the core passes that unit's port to the stage (the
+// OR of all units' ports: the others are 0), which gives back 49 cycles later
 // the path's next ray, to the unit named with it, or the path's end. That is the schedule's 51 cycles
 // (ts_artix_pkg::BounceLatency): the register, the stage, and the unit's cycle before the ray is known in its
 // queue.
@@ -251,9 +252,15 @@ module ts_path_core #(
   assign rd_final = final_q[rd_unit_q];
   assign rd_entry = entries[rd_unit_q*64+:64];
 
+  // Only the unit whose turn was last cycle has anything on its port (every other's register is all 0): the ports
+  // are merged by an OR.
   wire [UW-1:0]     in_unit = last_q;
-  wire              in_valid = stage_valid[in_unit];
-  wire [PortW-1:0]  in_q = ports[in_unit*PortW+:PortW];
+  wire              in_valid = |stage_valid;
+  logic [PortW-1:0] in_q;
+  always_comb begin
+    in_q = '0;
+    for (int u = 0; u < N; u++) in_q = in_q | ports[u*PortW+:PortW];
+  end
   logic [3*OriginW-1:0] in_o;
   logic [3*DirW-1:0]    in_d;
   logic [3:0]           in_rays;

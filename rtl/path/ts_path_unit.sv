@@ -7,14 +7,14 @@
 // (src/tripsitter/device/artix_units.cpp); docs/device.md, "Path tracing on the artix datapath", and docs/rtl.md,
 // "Path tracing blocks". Cycle c is counted from the line window's first cycle (`start`), the model's cycle 0.
 //
-// A path is a sample's rays, one after another. Its ray's state (origin, direction, the sphere it leaves, whether it
-// went in, the rays so far, and the path's names, which the unit gives its camera ray and only carries after: its
-// tag, {path number, column, sample}) lives under an id (0 .. IDS - 1) from the pass that starts the ray to the
-// ray's closest hit; the hit merged over the ray's passes (a walk's levels) lives beside it. A path's number (0 ..
-// IDS - 1) is its own from its camera ray's take to its end: the bounce stage keeps the path's random stream and
-// throughput under it (ts_path_bounce). Numbers are counted out fresh after a flush, then taken back from the
-// paths cut, then from those the stage ended (`end_path`), each kind in a queue of its own (both may end a path in
-// one cycle).
+// A path is a sample's rays, one after another. A path's number (0 .. IDS - 1) is its own from its camera ray's
+// take to its end: the bounce stage keeps the path's random stream and throughput under it (ts_path_bounce), and
+// the unit its ray's state (origin, direction, the sphere it leaves, whether it went in, the rays so far, and the
+// path's names, which the unit gives its camera ray and only carries after: its tag, {path number, column,
+// sample}) from the pass that starts the ray until the path's next ray starts, with the hit merged over the ray's
+// passes (a walk's levels) beside it. A path has one ray at a time, so its number is its ray's place. Numbers are
+// counted out fresh after a flush, then taken back from the paths cut, then from those the stage ended
+// (`end_path`), each kind in a queue of its own (both may end a path in one cycle).
 //
 // The issue port. When the port is free in cycle c (no pass issuing, the walker ready), it takes the bounced ray or
 // the walk's next level known first, else the next camera ray, else nothing. A bounced ray arrives from the bounce
@@ -30,22 +30,23 @@
 // world without a hierarchy max(spheres, MinPass) slots, slot i sphere i, the sphere the ray leaves a far pair when
 // it went in and a slot without a pair otherwise; with a hierarchy (`walks`) the walker's (ts_path_walk: the far pair
 // first, then each level's spheres and bounds). A slot's way: cycle c its issue (the tile list read), c + 1 its
-// sphere or bound read from scene memory (`mem_addr`, `mem_bound`) with the ray's state by its id, c + 2 both at the
-// sphere unit (SceneReadCycles). The pass's closest hit comes out HitLatency cycles after the cycle following its
-// last slot, the model's `known`, with its id from the passes in flight.
+// sphere or bound read from scene memory (`mem_addr`, `mem_bound`) with the ray's state by its path number, c + 2
+// both at the sphere unit (SceneReadCycles). The pass's closest hit comes out HitLatency cycles after the cycle
+// following its last slot, the model's `known`, with its path number from the passes in flight.
 //
 // A pass's hit. It is merged with its ray's best so far (closer, or as close with the lower index). A walk's level
 // with another to come (the walker's `result_more`) keeps it and queues the next level. Otherwise the ray's search
 // is over: a hit at the path's last ray (`depth`) is a cut (`cut_valid`, with the ray's tag: the sample ends with
 // no light); anything else, a hit or a miss, goes to the bounce stage in the unit's turn: the cycles c with
 // c mod N = U, one hit each, in the order known (a queue of them, the one known in a turn taken in it), the model's
-// shared_bounce. Its id is free again.
+// shared_bounce. A hit waiting for the turn waits as its path's number: its ray and merged hit stay in their places
+// until the turn reads them.
 //
 // Queues (ts_artix_fifo, LUT RAM): passes in flight, 16 (a pass holds the port at least MinPass cycles and is in
 // flight at most 2 + HitLatency + 1 cycles after its last slot); bounced rays, walks' next levels, hits waiting for
-// the unit's turn and free ids, IDS each: a path is in one of them at most once, and the unit holds IDS at most.
-// `overflow` (sticky) would say one of them overflowed, an id was asked for with none free, or a pass's hit came
-// with no pass in flight or for another walk than the walker's. `start` is the window's first cycle, `flush` its
+// the unit's turn and path numbers given back, IDS each: a path is in one of them at most once, and the unit holds
+// IDS at most. `overflow` (sticky) would say one of them overflowed, or a pass's hit came with no pass in flight or
+// for another walk than the walker's. `start` is the window's first cycle, `flush` its
 // last: everything in flight is dropped after it.
 module ts_path_unit #(
     parameter int N = 9,       // units sharing the bounce stage
@@ -106,7 +107,7 @@ module ts_path_unit #(
     input  logic                   end_valid,
     input  logic [IdW-1:0]         end_path,
     // To the bounce stage, in the cycle after the unit's turn (the turn's register): a ray's closest hit (or its
-    // miss) with the ray.
+    // miss) with the ray. Every bit 0 in the other cycles.
     output logic                   stage_valid,
     output logic [3*OriginW-1:0]   stage_o,
     output logic [3*DirW-1:0]      stage_d,
@@ -231,21 +232,6 @@ module ts_path_unit #(
       .pop(l_pop), .front({l_stamp, l_front}), .empty(l_empty), .overflow(l_overflow)
   );
 
-  // ---- ids: the fresh ones counted out, then the ones given back ------------------------------------------------
-  logic [IdW:0]   fresh_q;
-  logic           id_back, ids_empty, ids_overflow, id_take;
-  logic [IdW-1:0] id_back_id, id_recycled, id_new;
-  ts_artix_fifo #(.W(IdW), .DEPTH(IDS)) ids (
-      .clk, .rst, .clear(flush), .push(id_back), .push_data(id_back_id),
-      .pop(id_take && fresh_q[IdW]), .front(id_recycled), .empty(ids_empty), .overflow(ids_overflow)
-  );
-  assign id_new = fresh_q[IdW] ? id_recycled : fresh_q[IdW-1:0];
-  wire ids_short = id_take && fresh_q[IdW] && ids_empty;
-  always_ff @(posedge clk) begin
-    if (rst || flush) fresh_q <= '0;
-    else if (id_take && !fresh_q[IdW]) fresh_q <= fresh_q + (IdW + 1)'(1);
-  end
-
   // ---- path numbers: the fresh ones counted out, then the ones given back by cuts, then by the stage's ends --------
   logic [IdW:0]   pfresh_q;
   logic           pc_empty, pe_empty, pc_overflow, pe_overflow, path_take, cut;
@@ -295,8 +281,9 @@ module ts_path_unit #(
   wire take_flat = take_b && !walks;
   assign b_pop = take_b;
   assign l_pop = take_l;
-  assign id_take = take_b || take_cam;
   assign path_take = take_cam;
+  // A new ray's place: a camera ray's new path number, a bounced ray's path's.
+  wire [IdW-1:0] b_path = b_front.tag[TagW-1-:IdW];
   wire last_sample = cam_sample == spp - 5'd1;
 
   // A camera or flat pass's last slot (its first is never its last: MinPass > 1), from the issuing pass's registers.
@@ -335,7 +322,8 @@ module ts_path_unit #(
     end
     slot_q    <= slot + IW'(1);
     slot_p1_q <= slot + IW'(2);
-    if (take_b || take_cam) pass_id_q <= id_new;
+    if (take_b) pass_id_q <= b_path;
+    if (take_cam) pass_id_q <= path_new;
     if (take_l) pass_id_q <= l_front;
     // The camera's next sample: the same pixel's next, or the list's next pixel.
     if (start || take_cam) begin
@@ -345,7 +333,7 @@ module ts_path_unit #(
     end
   end
 
-  // ---- stage 1: the slot's sphere, and the ray by its id -------------------------------------------------------------
+  // ---- stage 1: the slot's sphere, and the ray by its number --------------------------------------------------------
   // A new ray's state (a camera sample's or a bounced ray's) is written in its pass's first slot.
   logic [RayW-1:0] rays_mem [IDS];  // ray_t's, flat (Yosys 0.23 reads no field of a memory's word)
   logic           new_q;        // the pass taken last cycle starts a ray (its first slot is at stage 1 now)
@@ -377,7 +365,13 @@ module ts_path_unit #(
       new_ray.tag    = {new_path_q, new_col_q, new_sample_q};
     end
   end
-  always_ff @(posedge clk) if (new_q) rays_mem[pass_id_q] <= new_ray;
+  // The sphere a ray leaves, apart: a walk's next level reads it (the ray's other reads are the pass's, the hit's and
+  // the turn's).
+  logic [AW-1:0] from_mem [IDS];
+  always_ff @(posedge clk) begin
+    if (new_q) rays_mem[pass_id_q] <= new_ray;
+    if (new_q) from_mem[pass_id_q] <= new_ray.from;
+  end
   ray_t s1_ray;
   assign s1_ray = new_q ? new_ray : rays_mem[pass_id_q];
 
@@ -428,7 +422,7 @@ module ts_path_unit #(
     s2_d_q     <= s1_ray.d;
   end
 
-  // The pass's id (and whether it is a walk's) waits for its hit.
+  // The pass's path number (and whether it is a walk's) waits for its hit.
   logic           flight_empty, flight_overflow, flight_walk;
   logic [IdW-1:0] flight_id;
   logic           hit_valid;
@@ -460,11 +454,7 @@ module ts_path_unit #(
   );
 
   // ---- the walker ---------------------------------------------------------------------------------------------------
-  /* verilator lint_off UNUSEDSIGNAL */  // of a walk's next level's ray only the sphere it leaves: the walker's
-  ray_t level_ray;
-  /* verilator lint_on UNUSEDSIGNAL */
-  assign level_ray = rays_mem[l_front];
-  wire [AW-1:0] level_from = level_ray.from;
+  wire [AW-1:0] level_from = from_mem[l_front];
   logic           walker_overflow, result_more;
   /* verilator lint_off UNUSEDSIGNAL */  // the walker's id of each result: the passes in flight give it too
   logic [IdW-1:0] result_id;
@@ -473,7 +463,7 @@ module ts_path_unit #(
       .clk, .rst(rst || flush),
       .root_first_sphere, .root_spheres, .root_first_child, .root_children,
       .node_addr, .node_first_sphere, .node_spheres, .node_first_child, .node_children,
-      .start(take_walk || take_l), .start_root(take_walk), .start_id(take_l ? l_front : id_new),
+      .start(take_walk || take_l), .start_root(take_walk), .start_id(take_l ? l_front : b_path),
       .start_from(take_l ? level_from : b_front.from), .start_into(b_front.into), .ready(walker_ready),
       .slot_valid(w_valid), .slot_first(w_first), .slot_end(w_end), .slot_pair(w_pair), .slot_far(w_far),
       .slot_bound(w_bound), .slot_index(w_index),
@@ -501,7 +491,7 @@ module ts_path_unit #(
   assign cut = done && merged_hit && done_ray.rays == depth;
   wire to_stage = done && !cut;
   always_ff @(posedge clk) begin
-    if (more) best_mem[flight_id] <= merged;
+    if (more || to_stage) best_mem[flight_id] <= merged;  // a stage-bound hit waits there for the turn
     for (int i = 0; i < IDS; i++) begin
       if (more && flight_id == IdW'(i)) best_valid_q[i] <= 1'b1;
       else if (new_q && pass_id_q == IdW'(i) && !(more && flight_id == IdW'(i))) best_valid_q[i] <= 1'b0;
@@ -510,47 +500,52 @@ module ts_path_unit #(
   end
   assign l_push    = more;
   assign l_push_id = flight_id;
-  assign id_back    = done;
-  assign id_back_id = flight_id;
   assign cut_valid = cut;
   assign cut_tag   = done_ray.tag;
   assign cut_path  = done_ray.tag[TagW-1-:IdW];
 
-  // Hits waiting for the unit's turn: the one arriving in a turn with none waiting goes straight on.
-  logic       st_empty, st_overflow;
-  ray_t       st_ray;
-  hit_t       st_hit;
-  wire        st_pop = turn && !st_empty;
-  ts_artix_fifo #(.W(RayW + HitW), .DEPTH(IDS)) waiting (
-      .clk, .rst, .clear(flush), .push(to_stage && !(turn && st_empty)), .push_data({done_ray, merged}),
-      .pop(st_pop), .front({st_ray, st_hit}), .empty(st_empty), .overflow(st_overflow)
+  // Hits waiting for the unit's turn, as their paths' numbers: the one arriving in a turn with none waiting goes
+  // straight on.
+  logic           st_empty, st_overflow;
+  logic [IdW-1:0] st_path;
+  wire            st_pop = turn && !st_empty;
+  ts_artix_fifo #(.W(IdW), .DEPTH(IDS)) waiting (
+      .clk, .rst, .clear(flush), .push(to_stage && !(turn && st_empty)), .push_data(flight_id),
+      .pop(st_pop), .front(st_path), .empty(st_empty), .overflow(st_overflow)
   );
   ray_t out_ray;
-  assign out_ray = st_empty ? done_ray : st_ray;
+  assign out_ray = st_empty ? done_ray : rays_mem[st_path];
   hit_t out_hit;
-  assign out_hit = st_empty ? merged : st_hit;
+  assign out_hit = st_empty ? merged : best_mem[st_path];
   // The turn's register: what the unit hands on in its turn is on the stage port in the next cycle, where the
-  // stage takes it (the units' ports are chosen by the turn before, without a register of their own).
+  // stage takes it. Every bit of it is 0 in the other cycles (a synchronous reset, the flip-flops' own), so that the
+  // core merges the units' ports with an OR instead of choosing one.
+  wire gives = run_q && turn && (!st_empty || to_stage);
   always_ff @(posedge clk) begin
-    if (rst || flush) stage_valid <= 1'b0;
-    else stage_valid <= run_q && turn && (!st_empty || to_stage);
-    stage_o     <= out_ray.o;
-    stage_d     <= out_ray.d;
-    stage_rays  <= out_ray.rays;
-    stage_tag   <= out_ray.tag;
-    stage_hit   <= out_hit.hit;
-    stage_index <= out_hit.index;
-    stage_far   <= out_hit.far_side;
-    stage_td    <= out_hit.td;
-    stage_beta  <= out_hit.beta;
-    stage_f     <= out_hit.f;
-    stage_s     <= out_hit.s;
-    stage_e     <= out_hit.e;
+    if (rst || flush || !gives) begin
+      stage_valid <= 1'b0;
+      {stage_o, stage_d, stage_rays, stage_tag, stage_hit, stage_index, stage_far, stage_td, stage_beta, stage_f,
+       stage_s, stage_e} <= '0;
+    end else begin
+      stage_valid <= 1'b1;
+      stage_o     <= out_ray.o;
+      stage_d     <= out_ray.d;
+      stage_rays  <= out_ray.rays;
+      stage_tag   <= out_ray.tag;
+      stage_hit   <= out_hit.hit;
+      stage_index <= out_hit.index;
+      stage_far   <= out_hit.far_side;
+      stage_td    <= out_hit.td;
+      stage_beta  <= out_hit.beta;
+      stage_f     <= out_hit.f;
+      stage_s     <= out_hit.s;
+      stage_e     <= out_hit.e;
+    end
   end
 
   always_ff @(posedge clk) begin
     if (rst) overflow <= 1'b0;
-    else if (b_overflow || l_overflow || ids_overflow || ids_short || pc_overflow || pe_overflow
+    else if (b_overflow || l_overflow || pc_overflow || pe_overflow
              || flight_overflow || walker_overflow
              || st_overflow || (hit_valid && flight_empty) || (hit_valid && flight_walk && result_id != flight_id))
       overflow <= 1'b1;
@@ -561,7 +556,7 @@ module ts_path_unit #(
   /* verilator lint_off UNUSEDSIGNAL */
   logic unused;
   assign unused = out_ray.leaves ^ ^out_ray.from ^ out_ray.into ^ b_front.leaves ^ ^b_front.rays ^ ^b_front.o
-                  ^ ^b_front.d ^ ^b_front.tag ^ s1_ray.leaves ^ ^s1_ray.from ^ s1_ray.into ^ ^s1_ray.rays
-                  ^ ^s1_ray.tag;
+                  ^ ^b_front.d ^ ^b_front.tag[TagW-IdW-1:0] ^ s1_ray.leaves ^ ^s1_ray.from ^ s1_ray.into
+                  ^ ^s1_ray.rays ^ ^s1_ray.tag;
   /* verilator lint_on UNUSEDSIGNAL */
 endmodule
