@@ -253,12 +253,7 @@ void run_world(const device::SceneMemory& scene, int spp, int depth, std::uint32
   for (const int row : rows) {
     // Frame memory's entries: of this world's epoch or another's, empty, partly or nearly full (some converged).
     std::vector<device::AccumEntry> memory(device::kLineWidth);
-    for (device::AccumEntry& e : memory) {
-      e.epoch = rng() % 4 == 0 ? static_cast<std::uint8_t>(rng() % device::kEpochs) : s.frame.epoch;
-      const auto kind = rng() % 4;
-      e.count = kind == 0 ? 0 : kind == 1 ? static_cast<std::uint8_t>(255 - rng() % 8) : static_cast<std::uint8_t>(rng() % 256);
-      for (auto& sum : e.sum) sum = static_cast<std::uint32_t>(rng() % (511u * e.count + 1));
-    }
+    for (device::AccumEntry& e : memory) e = path::random_entry(rng, s.frame.epoch, 8);
     lines.push_back(path::model_line(p, s.world, row, s.frame, memory));
   }
   run_lines<Top, kUnits>(p, s, lines, stats);

@@ -53,15 +53,6 @@ struct Line {
   std::vector<device::AccumEntry> entry;        // path_pixel's
 };
 
-device::AccumEntry random_entry(std::mt19937_64& rng, const device::PathFrame& frame) {
-  device::AccumEntry e;
-  e.epoch = rng() % 4 == 0 ? static_cast<std::uint8_t>(rng() % device::kEpochs) : frame.epoch;
-  const auto kind = rng() % 4;
-  e.count = kind == 0 ? 0 : kind == 1 ? static_cast<std::uint8_t>(255 - rng() % 40) : static_cast<std::uint8_t>(rng() % 256);
-  for (auto& s : e.sum) s = static_cast<std::uint32_t>(rng() % (511u * e.count + 1));
-  return e;
-}
-
 // A line of the unit's columns: their samples end at random cycles (`span` of them: past 3,200 some are late), a
 // light at most one a cycle and a cut at most one a cycle; a third of the columns' samples back to back. The first
 // column that takes samples ends its from cycle `edge` on, if it is given (near the window's last cycles).
@@ -78,7 +69,7 @@ Line random_line(std::mt19937_64& rng, int spp, std::int64_t span, std::int64_t 
   };
   for (int col = kUnit; col < device::kLineWidth; col += kUnits) {
     l.cols.push_back(col);
-    const device::AccumEntry e = random_entry(rng, l.frame);
+    const device::AccumEntry e = path::random_entry(rng, l.frame.epoch, 40);
     l.stored.push_back(e);
     const bool open = e.epoch == l.frame.epoch;
     const bool takes = (open ? e.count : 0) + spp <= device::kMaxSamples;

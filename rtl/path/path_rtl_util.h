@@ -106,6 +106,17 @@ inline device::AccumEntry unpack_entry(std::uint64_t v) {
   return e;
 }
 
+// A pixel's entry in frame memory for a frame of `epoch`: of that epoch (3 in 4) or another's, and empty, nearly
+// full (within `near` of 255 samples: converged for some spp), or anywhere, with sums its count could have.
+inline device::AccumEntry random_entry(std::mt19937_64& rng, std::uint8_t epoch, unsigned near) {
+  device::AccumEntry e;
+  e.epoch = rng() % 4 == 0 ? static_cast<std::uint8_t>(rng() % device::kEpochs) : epoch;
+  const auto kind = rng() % 4;
+  e.count = kind == 0 ? 0 : kind == 1 ? static_cast<std::uint8_t>(255 - rng() % near) : static_cast<std::uint8_t>(rng() % 256);
+  for (auto& s : e.sum) s = static_cast<std::uint32_t>(rng() % (511u * e.count + 1));
+  return e;
+}
+
 // A Verilated block out of reset: its registers start random (the reset must make them irrelevant), then `rst` is
 // high for three clocks with nothing valid going in.
 template <class Top>
