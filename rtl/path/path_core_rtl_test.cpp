@@ -69,7 +69,8 @@ void run_lines(const device::DevicePreset& p, const path::PathScene& scene, cons
   auto t = std::make_unique<Top>(&context);
   path::put_world(*t, world, frame);
   t->sample_base = frame.frame * static_cast<std::uint32_t>(frame.spp);
-  t->epoch = frame.epoch;
+  t->px_epoch = frame.epoch;
+  t->px_spp = static_cast<CData>(frame.spp);
   t->start = 0;
   t->flush = 0;
   t->px_we = 0;

@@ -172,8 +172,8 @@ void run(const std::vector<Line>& lines, Stats& stats, std::mt19937_64& rng) {
     for (std::int64_t cyc = 0; cyc < kLine; ++cyc) {
       t->start = cyc == 0;
       t->flush = cyc == kLine - 1;
-      // The next line's entries, one every other cycle from cycle 5; junk on the port otherwise.
-      const std::int64_t load_k = cyc >= 5 && cyc % 2 == 1 ? (cyc - 5) / 2 : -1;
+      // The next line's entries, one every other cycle from the window's first; junk on the port otherwise.
+      const std::int64_t load_k = cyc % 2 == 0 ? cyc / 2 : -1;
       t->ld_we = next != nullptr && load_k >= 0 && load_k < static_cast<std::int64_t>(per_line);
       if (t->ld_we != 0) {
         load(*next, static_cast<std::size_t>(load_k));
@@ -200,8 +200,8 @@ void run(const std::vector<Line>& lines, Stats& stats, std::mt19937_64& rng) {
           t->cut_col = static_cast<SData>(end.col);
         }
       }
-      // The last line's entries, one a cycle from cycle 100; each on the port the cycle after.
-      const std::int64_t k_now = cyc >= 100 && cyc < 100 + static_cast<std::int64_t>(per_line) ? cyc - 100 : -1;
+      // The last line's entries, one a cycle from the window's first; each on the port the cycle after.
+      const std::int64_t k_now = cyc < static_cast<std::int64_t>(per_line) ? cyc : -1;
       t->rd_col = static_cast<SData>(before != nullptr && k_now >= 0 ? before->cols[static_cast<std::size_t>(k_now)]
                                                                      : rng() & 1023);
       t->clk = 0;
@@ -241,8 +241,15 @@ TEST(PathPixelsRtl, EveryColumnsEntryIsFinalWhenTheScheduleSaysAndIsTheModels) {
   for (int l = 0; l < 40; ++l) {
     const int spp = l % 5 == 4 ? 1 + static_cast<int>(rng() % 31) : 1 + l % 4;
     // Most lines' ends well within the window; a quarter's to 3,300 (some columns late).
-    lines.push_back(random_line(rng, spp, l % 4 == 3 ? 3300 : 3000, l % 4 == 2 ? kLine - 1 - spp - l / 4 % 3 : -1));
+    // A column's samples from the window's first cycle in a quarter of the lines, to its last cycles in another.
+    const std::int64_t edge = l % 4 == 1 ? 0 : l % 4 == 2 ? kLine - 1 - spp - l / 4 % 3 : -1;
+    lines.push_back(random_line(rng, spp, l % 4 == 3 ? 3300 : 3000, edge));
   }
+  // What the lines hold: cuts that meet a light, samples of a column through the port in consecutive cycles (the
+  // second takes the first's sum from the forwarding register), and the window's edges: a sample through the port in
+  // its first cycle, and columns whose last went through in cycle 3198 (final) or 3199 (late).
+  std::array<int, 2> edge{};
+  int first_cycle = 0;
   for (const Line& l : lines) {
     std::vector<std::int64_t> lit_cycles;
     for (const End& e : l.ends) {
@@ -250,29 +257,32 @@ TEST(PathPixelsRtl, EveryColumnsEntryIsFinalWhenTheScheduleSaysAndIsTheModels) {
     }
     for (const End& e : l.ends)
       if (!e.lit && std::binary_search(lit_cycles.begin(), lit_cycles.end(), e.cycle)) ++stats.cuts_waited;
-    for (std::size_t i = 1; i < l.ends.size(); ++i) stats.back_to_back += l.ends[i].col == l.ends[i - 1].col && l.ends[i].cycle == l.ends[i - 1].cycle + 1;
-  }
-  // The window's edge: a column whose last sample went through the port in cycle 3198 is final, in 3199 late.
-  std::array<int, 2> edge{};
-  for (const Line& l : lines) {
     std::vector<device::artix::PortEnd> lit, cut;
     for (const End& e : l.ends) (e.lit ? lit : cut).push_back({e.cycle, e.col});
     device::artix::serve_pixel_port(lit, cut);
+    std::vector<device::artix::PortEnd> port = lit;
+    port.insert(port.end(), cut.begin(), cut.end());
+    std::sort(port.begin(), port.end(), [](const auto& a, const auto& b) { return a.cycle < b.cycle; });
+    for (std::size_t i = 1; i < port.size(); ++i)
+      stats.back_to_back += port[i].col == port[i - 1].col && port[i].cycle == port[i - 1].cycle + 1;
+    first_cycle += !port.empty() && port[0].cycle == 0;
     std::vector<std::int64_t> last(device::kLineWidth, -1);
-    for (const auto* port : {&lit, &cut})
-      for (const auto& p : *port) last[static_cast<std::size_t>(p.col)] = std::max(last[static_cast<std::size_t>(p.col)], p.cycle);
+    for (const auto* kind : {&lit, &cut})
+      for (const auto& p : *kind) last[static_cast<std::size_t>(p.col)] = std::max(last[static_cast<std::size_t>(p.col)], p.cycle);
     for (const std::int64_t x : last)
       if (x == kLine - 2 || x == kLine - 1) ++edge[static_cast<std::size_t>(x - (kLine - 2))];
   }
   run(lines, stats, rng);
-  std::printf("%d columns: %d final, %d late, %d converged; %d cuts met a light, %d ends back to back on a column\n",
+  std::printf("%d columns: %d final, %d late, %d converged; %d cuts met a light, %d samples of a column through the port in consecutive cycles\n",
               stats.columns, stats.final, stats.late, stats.converged, stats.cuts_waited, stats.back_to_back);
   EXPECT_EQ(stats.columns, 40 * 71);
   EXPECT_GT(stats.late, 20);
   EXPECT_GT(stats.converged, 40);
   EXPECT_GT(stats.cuts_waited, 20);
   EXPECT_GT(stats.back_to_back, 100);
-  std::printf("at the edge: %d columns final from cycle 3198, %d late from 3199\n", edge[0], edge[1]);
+  std::printf("at the edges: %d lines with a sample through the port in the window's first cycle; %d columns final "
+              "from cycle 3198, %d late from 3199\n", first_cycle, edge[0], edge[1]);
+  EXPECT_GT(first_cycle, 5);
   EXPECT_GT(edge[0], 0);
   EXPECT_GT(edge[1], 0);
 }

@@ -1,6 +1,7 @@
 // ts_path_core: the artix path preset's tracing core: N path units (ts_path_unit) and the one bounce stage they share
-// (ts_path_bounce), joined by the turn. C++ model: artix::render_path_line and artix::unit_finish_cycles with
-// DeviceUnits::shared_bounce (src/tripsitter/device/artix_units.cpp); docs/rtl.md, "Path tracing blocks".
+// (ts_path_bounce), joined by the turn, and each unit's pixels (ts_path_pixels). C++ model: artix::render_path_line
+// and artix::unit_finish_cycles with DeviceUnits::shared_bounce and pixel_port (src/tripsitter/device/
+// artix_units.cpp); docs/rtl.md, "Path tracing blocks".
 //
 // Unit u traces the columns u, u + N, ... of a line. In the line's cycle c the turn is unit c mod N's (each unit
 // counts it too, from `start`): the unit registers what it hands on then, a ray's closest hit or miss (the turn's
@@ -48,11 +49,13 @@ module ts_path_core #(
     input  logic [7:0]             root_children,
     input  logic [3:0]             depth,
     input  logic [4:0]             spp,
-    input  logic [4:0]             epoch,
     input  logic [8:0]             row,
     input  logic [31:0]            sample_base,
     // The next row's pixels, each to its unit (column px_col = px_unit + px_slot N), in order, each with its camera
-    // direction and its entry in frame memory.
+    // direction and its entry in frame memory; with the epoch and samples per pixel of the next row's frame (at a
+    // frame's last row, the next frame's).
+    input  logic [4:0]             px_epoch,
+    input  logic [4:0]             px_spp,
     input  logic                   px_we,
     input  logic [UW-1:0]          px_unit,
     input  logic [SlotW-1:0]       px_slot,
@@ -224,8 +227,8 @@ module ts_path_core #(
         .rst,
         .start,
         .flush,
-        .epoch,
-        .spp,
+        .epoch    (px_epoch),
+        .spp      (px_spp),
         .ld_we    (px_we && px_unit == UW'(u)),
         .ld_col   (px_col),
         .ld_entry (px_entry),

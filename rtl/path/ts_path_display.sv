@@ -7,8 +7,8 @@
 //   stage 3: the 4-bit channel, (that + t) >> 4, with t the pixel's 4 x 4 Bayer threshold (ordered dithering), or
 //            8 (rounding) without dithering. An entry of count 0 shows black.
 //
-// The entry is ts_path_accumulate's, {epoch 5, count 8, b, g, r 17 bits each}; its epoch is not looked at (an
-// entry of another world's epoch reaches the display only through the accumulation's open, as empty). Both tables
+// The entry is ts_path_pixels', {epoch 5, count 8, b, g, r 17 bits each}; its epoch is not looked at (an entry of
+// another world's epoch reaches the display only through the pixels' load, which opens it empty). Both tables
 // are computed at elaboration in integers: the sRGB curve's power 1 / 2.4 = 5 / 12 by comparing twelfth and fifth
 // powers exactly (gamma_of below), so no real arithmetic reaches the tools.
 module ts_path_display #(

@@ -21,7 +21,9 @@
 // T + 1, and the word is written at the end of T + 1 (ts_artix_pkg::PixelLatency = 2: a sample taken in the window's
 // cycle 3198 is its last to count); the sample after it on the same column takes the written word from a register,
 // as the bank gives the old one in that cycle. Nothing is taken in the window's last cycle (`flush`), and the queue
-// is emptied then. A column is final when left is 0 (`rd_final`).
+// is emptied then. A column is final when left is 0 (`rd_final`). A column not final when its window closed (late)
+// holds neither its old entry nor a new one: the model keeps a late pixel's entry as it was, so only final columns
+// are to be written back to frame memory.
 module ts_path_pixels #(
     parameter int N = ts_artix_pkg::Units,
     localparam int K = $clog2(N + 1) - 1,
@@ -33,7 +35,7 @@ module ts_path_pixels #(
     input  logic            rst,
     input  logic            start,
     input  logic            flush,
-    // The frame's epoch and samples per pixel (1..31).
+    // The epoch and samples per pixel (1..31) of the frame of the row being loaded.
     input  logic [4:0]      epoch,
     input  logic [4:0]      spp,
     // The next row's pixel: its column and its entry from frame memory.

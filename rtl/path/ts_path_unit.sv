@@ -24,7 +24,7 @@
 // order queued). A camera ray is a sample of the next pixel that takes samples this frame (`px_takes`; a converged
 // pixel takes none and no cycle of the port), `spp` samples a pixel, in order, taken only while the unit holds
 // fewer than IDS paths (DeviceUnits::paths): a path is the unit's from its camera ray's take to its end, the cut or
-// the bounce stage's word that it is over (`end_valid`, the cycle before its light is out).
+// the bounce stage's word that it is over (`end_valid`, with its light).
 //
 // A pass's slots: a camera ray's max(n, MinPass) slots from its tile's list as ts_artix_unit's; a bounced ray in a
 // world without a hierarchy max(spheres, MinPass) slots, slot i sphere i, the sphere the ray leaves a far pair when
@@ -103,7 +103,7 @@ module ts_path_unit #(
     input  logic                   ray_into,
     input  logic [3:0]             ray_rays,  // the rays of the path with this one
     input  logic [TagW-1:0]        ray_tag,
-    // From the bounce stage: a path of the unit is over (its light is out in the next cycle).
+    // From the bounce stage: a path of the unit is over (its light is out with it).
     input  logic                   end_valid,
     input  logic [IdW-1:0]         end_path,
     // To the bounce stage, in the cycle after the unit's turn (the turn's register): a ray's closest hit (or its

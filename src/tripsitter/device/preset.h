@@ -82,7 +82,7 @@ struct DeviceUnits {
   // the next ray (or the sample's light) comes out reflect_latency cycles later.
   int reflect_latency = 20;  // from a hit entering the bounce stage to the reflected ray waiting in the unit's queue
   int shade_latency = 12;    // from the last hit known (or the light out of the bounce stage) to the colour in the
-                             // line buffer
+                             // line buffer; with pixel_port, from the last sample through the port to the entry final
   // Cycles a walk's later level (artix-path) holds the issue port before its first slot: the record of its first
   // node read (the walker keeps that node's index in a register).
   int walk_lead = 1;
