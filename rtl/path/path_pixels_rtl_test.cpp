@@ -11,12 +11,14 @@
 #include <memory>
 #include <random>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "rtl_ports.h"  // first: it includes verilated.h with its warnings silenced
 
+#include "path_line_model.h"
 #include "path_rtl_util.h"
 
 #include <Vts_path_pixels.h>
@@ -49,6 +51,7 @@ struct Line {
   std::vector<device::AccumEntry> stored;       // a column's entry in frame memory
   std::vector<bool> takes;
   std::vector<End> ends;
+  std::vector<std::vector<std::int64_t>> port;  // a column's samples' cycles through the port, in order
   std::vector<bool> final;                      // the model's: the entry final by the window's end
   std::vector<device::AccumEntry> entry;        // path_pixel's
 };
@@ -93,19 +96,21 @@ Line random_line(std::mt19937_64& rng, int spp, std::int64_t span, std::int64_t 
   std::sort(l.ends.begin(), l.ends.end(), [](const End& a, const End& b) { return a.cycle < b.cycle; });
 
   // The model: the port's cycles, then each column final or not, and its entry.
-  std::vector<device::artix::PortEnd> lit, cut;
-  for (const End& e : l.ends) (e.lit ? lit : cut).push_back({e.cycle, e.col});
-  device::artix::serve_pixel_port(lit, cut);
-  std::vector<std::int64_t> last(device::kLineWidth, -1);
-  std::vector<int> over(device::kLineWidth, 0);
-  for (const auto* port : {&lit, &cut})
-    for (const auto& p : *port) {
-      last[static_cast<std::size_t>(p.col)] = std::max(last[static_cast<std::size_t>(p.col)], p.cycle);
-      ++over[static_cast<std::size_t>(p.col)];
-    }
+  std::vector<std::vector<std::int64_t>> ended(device::kLineWidth);
+  std::vector<std::vector<bool>> lit(device::kLineWidth);
+  for (const End& e : l.ends) {
+    const auto c = static_cast<std::size_t>(e.col);
+    ended[c].resize(static_cast<std::size_t>(spp), -1);
+    lit[c].resize(static_cast<std::size_t>(spp), false);
+    ended[c][static_cast<std::size_t>(e.sample)] = e.cycle;
+    lit[c][static_cast<std::size_t>(e.sample)] = e.lit;
+  }
+  const std::vector<std::vector<std::int64_t>> port = path::port_cycles(ended, lit, kUnits);
   for (std::size_t k = 0; k < l.cols.size(); ++k) {
-    const auto c = static_cast<std::size_t>(l.cols[k]);
-    l.final.push_back(!l.takes[k] || last[c] + kLatency <= kLine);
+    std::vector<std::int64_t> at = port[static_cast<std::size_t>(l.cols[k])];
+    std::sort(at.begin(), at.end());
+    l.final.push_back(!l.takes[k] || at.back() + kLatency <= kLine);
+    l.port.push_back(std::move(at));
     std::vector<Light> lights(static_cast<std::size_t>(spp));
     for (const End& e : l.ends)
       if (e.col == l.cols[k]) lights[static_cast<std::size_t>(e.sample)] = e.light;
@@ -257,20 +262,14 @@ TEST(PathPixelsRtl, EveryColumnsEntryIsFinalWhenTheScheduleSaysAndIsTheModels) {
     }
     for (const End& e : l.ends)
       if (!e.lit && std::binary_search(lit_cycles.begin(), lit_cycles.end(), e.cycle)) ++stats.cuts_waited;
-    std::vector<device::artix::PortEnd> lit, cut;
-    for (const End& e : l.ends) (e.lit ? lit : cut).push_back({e.cycle, e.col});
-    device::artix::serve_pixel_port(lit, cut);
-    std::vector<device::artix::PortEnd> port = lit;
-    port.insert(port.end(), cut.begin(), cut.end());
-    std::sort(port.begin(), port.end(), [](const auto& a, const auto& b) { return a.cycle < b.cycle; });
-    for (std::size_t i = 1; i < port.size(); ++i)
-      stats.back_to_back += port[i].col == port[i - 1].col && port[i].cycle == port[i - 1].cycle + 1;
-    first_cycle += !port.empty() && port[0].cycle == 0;
-    std::vector<std::int64_t> last(device::kLineWidth, -1);
-    for (const auto* kind : {&lit, &cut})
-      for (const auto& p : *kind) last[static_cast<std::size_t>(p.col)] = std::max(last[static_cast<std::size_t>(p.col)], p.cycle);
-    for (const std::int64_t x : last)
-      if (x == kLine - 2 || x == kLine - 1) ++edge[static_cast<std::size_t>(x - (kLine - 2))];
+    bool at_first = false;
+    for (const std::vector<std::int64_t>& at : l.port) {
+      if (at.empty()) continue;
+      for (std::size_t i = 1; i < at.size(); ++i) stats.back_to_back += at[i] == at[i - 1] + 1;
+      at_first = at_first || at.front() == 0;
+      if (at.back() == kLine - 2 || at.back() == kLine - 1) ++edge[static_cast<std::size_t>(at.back() - (kLine - 2))];
+    }
+    first_cycle += at_first;
   }
   run(lines, stats, rng);
   std::printf("%d columns: %d final, %d late, %d converged; %d cuts met a light, %d samples of a column through the port in consecutive cycles\n",

@@ -200,6 +200,10 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
   assert(preset.units && work.start.size() == kLineWidth + 1);
   const DeviceUnits& u = *preset.units;
   std::vector<std::int64_t> finish(kLineWidth, 0);
+  const auto last_end = [&](int col, std::int64_t cycle) {  // the column's colour (or entry) after an end at `cycle`
+    std::int64_t& f = finish[static_cast<std::size_t>(col)];
+    f = std::max(f, cycle + u.shade_latency);
+  };
   struct Waiting {
     std::int64_t known;  // the cycle the pass is in the queue
     std::int64_t order;  // the order queued, for ties
@@ -308,15 +312,14 @@ std::vector<std::int64_t> unit_finish_cycles(const DevicePreset& preset, const L
         if (u.pixel_port)
           (pass.bounce ? lit : cut).push_back({known, job.col});
         else
-          finish[static_cast<std::size_t>(job.col)] = std::max(finish[static_cast<std::size_t>(job.col)], known + u.shade_latency);
+          last_end(job.col, known);
         free_from[pass.bounce ? 0 : 1].push_back(pass.bounce ? known : known + 1);
       }
     }
     if (u.pixel_port) {
       serve_pixel_port(lit, cut);
       for (const auto* ends : {&lit, &cut})
-        for (const PortEnd& e : *ends)
-          finish[static_cast<std::size_t>(e.col)] = std::max(finish[static_cast<std::size_t>(e.col)], e.cycle + u.shade_latency);
+        for (const PortEnd& e : *ends) last_end(e.col, e.cycle);
     }
   }
   return finish;
